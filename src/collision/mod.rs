@@ -1,0 +1,1 @@
+//! Static obstacles and collision response through parry3d (the only module that imports it).

@@ -1,0 +1,1 @@
+//! Flat spring and bending arrays built from the mesh and the material.

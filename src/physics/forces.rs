@@ -1,0 +1,1 @@
+//! Force evaluation over the flat element arrays.

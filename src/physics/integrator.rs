@@ -1,0 +1,1 @@
+//! Time integrators behind one interface.

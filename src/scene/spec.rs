@@ -1,0 +1,421 @@
+//! The scene's data types: one struct per TOML section, every default in one place.
+//!
+//! Field names follow MODEL.md §9 and the seed's tables (`rho`, `T`, `kappa`, `E`, `alpha`, `k_b`,
+//! `k_bd`, `mu`, `beta`, ...). Every struct denies unknown keys so a typo is an error, not a silent
+//! default.
+
+use crate::math::Real;
+use serde::{Deserialize, Serialize};
+
+/// A whole scene: the cloth, its material, the forces, time stepping, integrator, collision,
+/// obstacles, adaptivity parameters and tracked material points.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Short name used in outputs (defaults to the file stem).
+    #[serde(default)]
+    pub name: String,
+    /// One-line description.
+    #[serde(default)]
+    pub description: String,
+    /// `[cloth]`: shape, size, resolution, placement, pinned vertices.
+    #[serde(default)]
+    pub cloth: ClothSpec,
+    /// `[material]`: density, thickness, stiffness, damping, friction.
+    #[serde(default)]
+    pub material: MaterialSpec,
+    /// `[forces]`: each force on or off, gravity vector.
+    #[serde(default)]
+    pub forces: ForcesSpec,
+    /// `[time]`: duration and time-step control.
+    #[serde(default)]
+    pub time: TimeSpec,
+    /// `[integrator]`: the time integrator and its options.
+    #[serde(default)]
+    pub integrator: IntegratorSpec,
+    /// `[collision]`: margin and default restitution.
+    #[serde(default)]
+    pub collision: CollisionSpec,
+    /// `[[obstacles]]`: static obstacles.
+    #[serde(default)]
+    pub obstacles: Vec<ObstacleSpec>,
+    /// `[adaptivity]`: strategy choice and the criteria parameters.
+    #[serde(default)]
+    pub adaptivity: AdaptivitySpec,
+    /// `[[tracked]]`: material points whose world position is recorded.
+    #[serde(default)]
+    pub tracked: Vec<TrackedSpec>,
+}
+
+/// How the cloth pattern is made.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum ClothShape {
+    /// Union-jack grid of `resolution` x `resolution_v` vertices over `size`.
+    #[default]
+    Grid,
+    /// Disk of diameter `size[0]` with `resolution` rings.
+    Disk,
+    /// Triangle mesh from the OBJ file `mesh` (`vt` = rest coordinates in m, `v` = world positions).
+    Obj,
+}
+
+/// `[cloth]`: the pattern and where it starts in the world.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct ClothSpec {
+    /// Pattern shape. Default `grid`.
+    pub shape: ClothShape,
+    /// Pattern size `[width, height]` (m). Default `[1, 1]`.
+    pub size: [Real; 2],
+    /// Vertices per side along u (grid, at least 2) or rings (disk). Default 5.
+    pub resolution: usize,
+    /// Vertices along v for an N x M grid; 0 means equal to `resolution`. Default 0.
+    pub resolution_v: usize,
+    /// OBJ file for `shape = "obj"`, relative to the scene file.
+    pub mesh: String,
+    /// World position of the pattern's centre (m). Default `[0, 0, 0.3]`.
+    pub center: [Real; 3],
+    /// Rotation of the pattern about x, then y, then z (degrees). Default none: the pattern lies
+    /// in the horizontal plane, u along x, v along y.
+    pub rotation_deg: [Real; 3],
+    /// Pinned vertices, given as rest points `[u, v]` (m): the vertex nearest to each is pinned.
+    pub pinned: Vec<[Real; 2]>,
+    /// Initial velocity of every vertex (m/s). Default zero.
+    pub velocity: [Real; 3],
+}
+
+impl Default for ClothSpec {
+    fn default() -> Self {
+        ClothSpec {
+            shape: ClothShape::Grid,
+            size: [1.0, 1.0],
+            resolution: 5,
+            resolution_v: 0,
+            mesh: String::new(),
+            center: [0.0, 0.0, 0.3],
+            rotation_deg: [0.0; 3],
+            pinned: Vec::new(),
+            velocity: [0.0; 3],
+        }
+    }
+}
+
+/// Spring stiffness model (MODEL.md §2).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum StiffnessModel {
+    /// `k = E T S / L²`: mesh-independent sheet stiffness.
+    #[default]
+    AreaWeighted,
+    /// `k = E A0 / L` (seed equation 4.3).
+    Seed,
+}
+
+/// Which spring deformations resist (MODEL.md §3).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum SpringMode {
+    /// Springs resist stretching only; compression is free so the cloth buckles.
+    #[default]
+    Tension,
+    /// Springs resist stretching and compression.
+    Both,
+}
+
+/// `[material]`: cloth material (MODEL.md §2), SI units.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct MaterialSpec {
+    /// Density (kg/m³). Default 6000.
+    pub rho: Real,
+    /// Thickness `T` (m). Default 1e-4.
+    #[serde(rename = "T")]
+    pub thickness: Real,
+    /// Permeability `kappa`: drag coefficient per rest area (N s/m³). Default 3.
+    pub kappa: Real,
+    /// Young's modulus `E` (N/m²). Default 1e7.
+    #[serde(rename = "E")]
+    pub young: Real,
+    /// Spring damping ratio `alpha`: `kd = alpha k` (s). Default 0.01.
+    pub alpha: Real,
+    /// Bending stiffness `k_b` (N m). Default 1e-3.
+    pub k_b: Real,
+    /// Bending damping `k_bd` (N s). Default 1e-4.
+    pub k_bd: Real,
+    /// Cloth friction coefficient `mu` (averaged with the obstacle's). Default 0.05.
+    pub mu: Real,
+    /// Stiffness model. Default `area_weighted`.
+    pub stiffness: StiffnessModel,
+    /// Spring cross-section `A0` (m²) for `stiffness = "seed"`. Default 1e-4.
+    #[serde(rename = "A0")]
+    pub cross_section: Real,
+    /// Whether springs resist compression. Default `tension`.
+    pub springs: SpringMode,
+}
+
+impl Default for MaterialSpec {
+    fn default() -> Self {
+        MaterialSpec {
+            rho: 6000.0,
+            thickness: 1e-4,
+            kappa: 3.0,
+            young: 1e7,
+            alpha: 0.01,
+            k_b: 1e-3,
+            k_bd: 1e-4,
+            mu: 0.05,
+            stiffness: StiffnessModel::AreaWeighted,
+            cross_section: 1e-4,
+            springs: SpringMode::Tension,
+        }
+    }
+}
+
+/// `[forces]`: each force on or off (a force switched off is never evaluated).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct ForcesSpec {
+    /// Elastic spring force (4.8). Default on.
+    pub springs: bool,
+    /// Spring damping (4.9). Default on.
+    pub spring_damping: bool,
+    /// Bridson bending (4.10-4.11). Default on.
+    pub bending: bool,
+    /// Bending damping (4.12-4.13). Default on.
+    pub bending_damping: bool,
+    /// Gravity (4.14). Default on.
+    pub gravity: bool,
+    /// Air drag (4.15). Default on.
+    pub drag: bool,
+    /// Gravity acceleration (m/s²). Default `[0, 0, -9.81]`.
+    pub g: [Real; 3],
+}
+
+impl Default for ForcesSpec {
+    fn default() -> Self {
+        ForcesSpec {
+            springs: true,
+            spring_damping: true,
+            bending: true,
+            bending_damping: true,
+            gravity: true,
+            drag: true,
+            g: [0.0, 0.0, -9.81],
+        }
+    }
+}
+
+/// Time-step mode (MODEL.md §4).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum TimeMode {
+    /// `dt = beta pi sqrt(m_min / k_max)` before every step.
+    #[default]
+    Dynamic,
+    /// Constant `dt`.
+    Fixed,
+}
+
+/// `[time]`: duration and step control.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct TimeSpec {
+    /// Simulated duration (s). Default 0.6.
+    pub duration: Real,
+    /// Step mode. Default `dynamic`.
+    pub mode: TimeMode,
+    /// Step for `mode = "fixed"` (s). Default 1e-4.
+    pub dt: Real,
+    /// Safety factor of the dynamic step. Default 1e-3.
+    pub beta: Real,
+    /// Step used until the first contact (s); 0 starts dynamic at once. Default 0.
+    pub dt_initial: Real,
+    /// Lower clamp of the dynamic step (s); 0 means none. Default 0.
+    pub dt_min: Real,
+    /// Upper clamp of the dynamic step (s); 0 means none. Default 0.
+    pub dt_max: Real,
+    /// Output frames per simulated second. Default 60.
+    pub frame_rate: Real,
+    /// Divergence bound: a vertex faster than this (m/s) ends the run as diverged. Default 100.
+    pub max_speed: Real,
+}
+
+impl Default for TimeSpec {
+    fn default() -> Self {
+        TimeSpec {
+            duration: 0.6,
+            mode: TimeMode::Dynamic,
+            dt: 1e-4,
+            beta: 1e-3,
+            dt_initial: 0.0,
+            dt_min: 0.0,
+            dt_max: 0.0,
+            frame_rate: 60.0,
+            max_speed: 100.0,
+        }
+    }
+}
+
+/// `[integrator]`: the integrator's name and options.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct IntegratorSpec {
+    /// Integrator name (see `adaptcloth run --help`). Default `rk4`.
+    pub name: String,
+}
+
+impl Default for IntegratorSpec {
+    fn default() -> Self {
+        IntegratorSpec { name: "rk4".into() }
+    }
+}
+
+/// `[collision]`: collision response parameters shared by all obstacles.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct CollisionSpec {
+    /// Collision margin (m): the cloth is kept this far off every obstacle surface. Default 2e-3.
+    pub margin: Real,
+    /// Restitution `gamma` in (0, 1) (4.16), unless an obstacle sets its own. Default 0.5.
+    #[serde(alias = "gamma")]
+    pub restitution: Real,
+}
+
+impl Default for CollisionSpec {
+    fn default() -> Self {
+        CollisionSpec {
+            margin: 2e-3,
+            restitution: 0.5,
+        }
+    }
+}
+
+/// The geometry of a static obstacle.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum ObstacleShape {
+    /// Ground half-space `z <= height`.
+    Ground {
+        /// Height of the ground plane (m).
+        #[serde(default)]
+        height: Real,
+    },
+    /// Sphere.
+    Sphere {
+        /// Centre (m).
+        center: [Real; 3],
+        /// Radius (m).
+        radius: Real,
+    },
+    /// Cylinder with a vertical axis (the round table).
+    Cylinder {
+        /// Centre of the cylinder (m): halfway between its bottom and top faces.
+        center: [Real; 3],
+        /// Radius (m).
+        radius: Real,
+        /// Height (m).
+        height: Real,
+    },
+    /// Axis-aligned box.
+    Box {
+        /// Centre (m).
+        center: [Real; 3],
+        /// Half extents along x, y, z (m).
+        half_extents: [Real; 3],
+    },
+    /// Closed triangle mesh read from an OBJ file (relative to the scene file).
+    Mesh {
+        /// The OBJ file.
+        file: String,
+        /// Uniform scale applied first.
+        #[serde(default = "one")]
+        scale: Real,
+        /// Translation applied after scaling (m).
+        #[serde(default)]
+        translation: [Real; 3],
+    },
+}
+
+fn one() -> Real {
+    1.0
+}
+
+/// `[[obstacles]]`: one static obstacle, its geometry and its contact parameters.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ObstacleSpec {
+    /// The geometry (`kind = "ground" | "sphere" | "cylinder" | "box" | "mesh"` and its fields).
+    #[serde(flatten)]
+    pub shape: ObstacleShape,
+    /// Friction coefficient of the obstacle surface (averaged with the cloth's `mu`). Default 0.
+    #[serde(default)]
+    pub friction: Real,
+    /// Restitution in (0, 1) for this obstacle; 0 (the default) uses `[collision] restitution`.
+    #[serde(default)]
+    pub restitution: Real,
+}
+
+/// `[adaptivity]`: the strategy and the criteria of MODEL.md §7 (names of the seed's tables).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields, default)]
+pub struct AdaptivitySpec {
+    /// Strategy: `static`, `remesh`, `simnett` or `bisect48`. Default `static`.
+    pub strategy: String,
+    /// Restore the linear momentum of a re-meshed region by a uniform velocity correction.
+    /// Default on.
+    pub restore_momentum: bool,
+    /// Compression criterion `c`: refine when `L / L_rest < c`. Default 0.70.
+    pub compression_c: Real,
+    /// Curvature: refine when the cosine between end normals is below this. Default 0.97.
+    pub cos_refine: Real,
+    /// Curvature: simplify when the cosine is above this. Default 0.999995.
+    pub cos_simplify: Real,
+    /// No refinement of an edge shorter than this at rest (m). Default 0.08.
+    pub l_min: Real,
+    /// No simplification above this rest length (m). Default 0.25.
+    pub l_max: Real,
+    /// Smoothing (4.19): refine a neighbour j of a selected edge i when `L_i / L_j < c2`.
+    /// Default 0.75.
+    pub c2: Real,
+    /// Hysteresis: no simplification until this long after refinement (s). Default 0.1.
+    pub t_simplify: Real,
+    /// Density factor scale when refining. Default 1.01.
+    pub density_refine: Real,
+    /// Density factor scale when simplifying. Default 0.35.
+    pub density_simplify: Real,
+    /// Maximum subdivision depth (1-to-4). Default 3.
+    pub max_depth: u32,
+    /// Cosine-limit factor per depth level (1-to-4). Default 0.95.
+    pub depth_factor: Real,
+}
+
+impl Default for AdaptivitySpec {
+    fn default() -> Self {
+        AdaptivitySpec {
+            strategy: "static".into(),
+            restore_momentum: true,
+            compression_c: 0.70,
+            cos_refine: 0.97,
+            cos_simplify: 0.999995,
+            l_min: 0.08,
+            l_max: 0.25,
+            c2: 0.75,
+            t_simplify: 0.1,
+            density_refine: 1.01,
+            density_simplify: 0.35,
+            max_depth: 3,
+            depth_factor: 0.95,
+        }
+    }
+}
+
+/// `[[tracked]]`: a material point (the seed's particle P) whose world position is recorded.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct TrackedSpec {
+    /// Name used in messages.
+    #[serde(default)]
+    pub name: String,
+    /// Rest point `[u, v]` (m) in the pattern.
+    pub rest: [Real; 2],
+}
