@@ -1,5 +1,225 @@
 //! Scenes: TOML files (serde) describing the cloth, material, forces, time stepping, integrator,
-//! collision, obstacles, adaptivity and tracked points; `--set section.key=value` overrides;
-//! validation with clear errors.
+//! collision, obstacles, adaptivity and tracked points; `--set section.key=value` overrides; and
+//! validation with errors that name the file, the line and what was expected.
+//!
+//! Loading is the first stage of a run: [`load`] (or [`load_default`]) → [`Scene`] → `sim`.
+
 mod spec;
+mod validate;
+
 pub use spec::*;
+
+use std::path::{Path, PathBuf};
+
+/// The default scene run when no scene file is given: the source's sphere test (Test III).
+pub const DEFAULT_SCENE: &str = include_str!("../../scenes/sphere.toml");
+
+/// Names of the scenes shipped in `scenes/` and embedded in the binary.
+pub const EMBEDDED_SCENES: &[(&str, &str)] = &[
+    ("sphere", include_str!("../../scenes/sphere.toml")),
+    ("round_table", include_str!("../../scenes/round_table.toml")),
+    ("bunny", include_str!("../../scenes/bunny.toml")),
+    ("hanging", include_str!("../../scenes/hanging.toml")),
+    ("sphere_peer", include_str!("../../scenes/sphere_peer.toml")),
+];
+
+/// Strategy names accepted by `[adaptivity] strategy` and `--strategy`.
+pub const STRATEGIES: &[&str] = &["static", "remesh", "simnett", "bisect48"];
+
+/// A scene ready to run: the parsed, overridden and validated scene, where it came from, and the
+/// folder its relative file names (meshes) are resolved against.
+#[derive(Clone, Debug)]
+pub struct LoadedScene {
+    /// The scene.
+    pub scene: Scene,
+    /// The file it was read from, or `<embedded NAME>`.
+    pub source: String,
+    /// Folder for relative paths in the scene.
+    pub base_dir: PathBuf,
+}
+
+/// Why a scene could not be loaded; every variant says where and what was expected.
+#[derive(Debug, thiserror::Error)]
+pub enum SceneError {
+    /// The scene file could not be read.
+    #[error("{path}: cannot read scene file: {source}")]
+    Io {
+        /// The file.
+        path: String,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// TOML syntax error, unknown key, or wrong type (the message carries line and column).
+    #[error("{path}: {message}")]
+    Parse {
+        /// The file (or `--set`).
+        path: String,
+        /// The parser's message, with line and column.
+        message: String,
+    },
+    /// A `--set` argument is not of the form `section.key=value`.
+    #[error("--set {arg}: expected section.key=value")]
+    BadOverride {
+        /// The argument.
+        arg: String,
+    },
+    /// A `--set` key names no scene parameter.
+    #[error("--set {key}: no such scene key; valid keys here: {valid}")]
+    UnknownKey {
+        /// The key.
+        key: String,
+        /// The valid keys at that level.
+        valid: String,
+    },
+    /// A value out of its range.
+    #[error("{path}{line}: {key} = {value}: {expected}")]
+    Invalid {
+        /// The file.
+        path: String,
+        /// `:LINE` when the key was found in the file, else empty.
+        line: String,
+        /// The key (`section.key`).
+        key: String,
+        /// The offending value.
+        value: String,
+        /// What was expected.
+        expected: String,
+    },
+}
+
+/// Reads, overrides (`--set`) and validates a scene file.
+pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError> {
+    let source = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+        path: source.clone(),
+        source: e,
+    })?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let base_dir = path
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_else(|| PathBuf::from("."));
+    from_text(&text, &source, &stem, base_dir, overrides)
+}
+
+/// Loads an embedded scene by name (see [`EMBEDDED_SCENES`]); relative mesh paths resolve
+/// against the `scenes/` folder of the source tree when it exists, else the current folder.
+pub fn load_embedded(name: &str, overrides: &[String]) -> Option<Result<LoadedScene, SceneError>> {
+    let (_, text) = EMBEDDED_SCENES.iter().find(|(n, _)| *n == name)?;
+    let base_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let base_dir = if base_dir.is_dir() {
+        base_dir
+    } else {
+        PathBuf::from(".")
+    };
+    Some(from_text(
+        text,
+        &format!("<embedded {name}>"),
+        name,
+        base_dir,
+        overrides,
+    ))
+}
+
+/// Loads the embedded default scene ([`DEFAULT_SCENE`], the sphere).
+pub fn load_default(overrides: &[String]) -> Result<LoadedScene, SceneError> {
+    load_embedded("sphere", overrides).expect("the sphere scene is embedded")
+}
+
+/// Parses scene text, applies the overrides, and validates.
+pub fn from_text(
+    text: &str,
+    source: &str,
+    default_name: &str,
+    base_dir: PathBuf,
+    overrides: &[String],
+) -> Result<LoadedScene, SceneError> {
+    let parse_error = |path: &str, e: toml::de::Error| SceneError::Parse {
+        path: path.to_string(),
+        message: e.to_string().trim_end().to_string(),
+    };
+    // First pass on the text itself, so unknown keys and wrong types are reported with their line.
+    let mut scene: Scene = toml::from_str(text).map_err(|e| parse_error(source, e))?;
+    if !overrides.is_empty() {
+        let mut table = toml::Table::try_from(&scene).map_err(|e| SceneError::Parse {
+            path: source.to_string(),
+            message: e.to_string(),
+        })?;
+        for arg in overrides {
+            apply_override(&mut table, arg)?;
+        }
+        scene = Scene::deserialize(toml::Value::Table(table))
+            .map_err(|e| parse_error(&format!("{source} with --set"), e))?;
+    }
+    if scene.name.is_empty() {
+        scene.name = default_name.to_string();
+    }
+    validate::validate(&scene, text, source, &base_dir)?;
+    Ok(LoadedScene {
+        scene,
+        source: source.to_string(),
+        base_dir,
+    })
+}
+
+use serde::Deserialize;
+
+/// Applies one `section.key=value` override to the serialized scene (which holds every key with
+/// its default, so a key absent there does not exist). Array elements are addressed by index:
+/// `obstacles.0.radius=0.3`. The value is parsed as TOML (number, boolean, array, quoted string)
+/// or else taken as a bare string; an integer given for a float key becomes a float.
+fn apply_override(table: &mut toml::Table, arg: &str) -> Result<(), SceneError> {
+    let (key, raw) = arg.split_once('=').ok_or_else(|| SceneError::BadOverride {
+        arg: arg.to_string(),
+    })?;
+    let key = key.trim();
+    let parts: Vec<&str> = key.split('.').collect();
+    if key.is_empty() || parts.iter().any(|p| p.is_empty()) {
+        return Err(SceneError::BadOverride {
+            arg: arg.to_string(),
+        });
+    }
+    let value = parse_value(raw.trim());
+    let unknown = |valid: Vec<String>| SceneError::UnknownKey {
+        key: key.to_string(),
+        valid: valid.join(", "),
+    };
+    let mut node: &mut toml::Value = table
+        .get_mut(parts[0])
+        .ok_or_else(|| unknown(table.keys().cloned().collect()))?;
+    for part in &parts[1..] {
+        node = match node {
+            toml::Value::Table(t) => {
+                let valid: Vec<String> = t.keys().cloned().collect();
+                t.get_mut(*part).ok_or_else(|| unknown(valid))?
+            }
+            toml::Value::Array(a) => {
+                let len = a.len();
+                let index: usize = part.parse().map_err(|_| unknown(vec![format!("0..{len}")]))?;
+                a.get_mut(index)
+                    .ok_or_else(|| unknown(vec![format!("0..{len}")]))?
+            }
+            _ => return Err(unknown(Vec::new())),
+        };
+    }
+    *node = match (&*node, value) {
+        (toml::Value::Float(_), toml::Value::Integer(i)) => toml::Value::Float(i as f64),
+        (_, v) => v,
+    };
+    Ok(())
+}
+
+/// Parses an override value as TOML, falling back to a bare string.
+fn parse_value(raw: &str) -> toml::Value {
+    let doc = format!("v = {raw}");
+    toml::from_str::<toml::Table>(&doc)
+        .ok()
+        .and_then(|mut t| t.remove("v"))
+        .unwrap_or_else(|| toml::Value::String(raw.to_string()))
+}
+
+#[cfg(test)]
+mod tests;

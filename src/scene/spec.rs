@@ -237,6 +237,8 @@ pub struct TimeSpec {
     pub dt_max: Real,
     /// Output frames per simulated second. Default 60.
     pub frame_rate: Real,
+    /// Metrics rows per simulated second (every adaptation event is recorded too). Default 1000.
+    pub metrics_rate: Real,
     /// Divergence bound: a vertex faster than this (m/s) ends the run as diverged. Default 100.
     pub max_speed: Real,
 }
@@ -252,6 +254,7 @@ impl Default for TimeSpec {
             dt_min: 0.0,
             dt_max: 0.0,
             frame_rate: 60.0,
+            metrics_rate: 1000.0,
             max_speed: 100.0,
         }
     }

@@ -1,0 +1,75 @@
+//! Adaptivity: the [`Adaptivity`] trait every strategy implements (MODEL.md §6) and the shared
+//! services strategies call to change the mesh while keeping the physics consistent.
+//!
+//! In the step: after integration and the collision pass, the simulation calls
+//! [`Adaptivity::adapt`]; a strategy decides what to change (criteria are shared, in this module's
+//! future `criteria`), and applies every elementary change through [`apply_edit`], which checks
+//! conformity, transfers state to new vertices, recomputes touched masses, restores the region's
+//! linear momentum and records the kinetic-energy change. Spring and bending arrays and `dt` are
+//! rebuilt by the simulation before the next step.
+
+mod transfer;
+
+pub use transfer::{apply_edit, Transfer};
+
+use crate::cloth::Cloth;
+use crate::collision::Obstacles;
+use crate::math::Real;
+use crate::mesh::EditError;
+use crate::scene::AdaptivitySpec;
+
+/// What a strategy sees besides the cloth.
+pub struct AdaptContext<'a> {
+    /// The static obstacles (for the collision criterion and pushing new vertices out).
+    pub obstacles: &'a Obstacles,
+    /// Simulated time (s) at the end of the step just taken.
+    pub time: Real,
+    /// The scene's adaptivity parameters.
+    pub spec: &'a AdaptivitySpec,
+}
+
+/// What one call of [`Adaptivity::adapt`] changed.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AdaptReport {
+    /// Elementary operations applied (edits).
+    pub events: usize,
+    /// Vertices created.
+    pub vertices_added: usize,
+    /// Vertices removed.
+    pub vertices_removed: usize,
+    /// Kinetic energy after minus before, summed over the events (J).
+    pub kinetic_energy_change: Real,
+    /// Largest linear-momentum change of one event after restoration (kg m/s).
+    pub momentum_change: Real,
+}
+
+impl AdaptReport {
+    /// Adds one applied edit to the report.
+    pub fn add(&mut self, t: &Transfer) {
+        self.events += 1;
+        self.vertices_added += t.record.added_vertices.len();
+        self.vertices_removed += t.record.removed_vertices.len();
+        self.kinetic_energy_change += t.kinetic_energy_change;
+        self.momentum_change = self.momentum_change.max(t.momentum_change);
+    }
+}
+
+/// Why adaptation failed (the run stops with the message).
+#[derive(Debug, thiserror::Error)]
+pub enum AdaptError {
+    /// A mesh edit was refused.
+    #[error("mesh edit refused: {0}")]
+    Edit(#[from] EditError),
+}
+
+/// A mesh-adaptivity strategy. Contract (MODEL.md §6): the mesh is conforming after every
+/// elementary operation; new vertices get `x`, `v` by interpolation in rest space; masses and
+/// elements of touched regions are recomputed and total mass is unchanged; linear momentum is
+/// unchanged; every elementary operation is exposed for property tests.
+pub trait Adaptivity: Send {
+    /// The strategy's name as given to `--strategy`.
+    fn name(&self) -> &'static str;
+
+    /// Inspects the state after a step and changes the mesh through [`apply_edit`].
+    fn adapt(&mut self, cloth: &mut Cloth, ctx: &AdaptContext) -> Result<AdaptReport, AdaptError>;
+}

@@ -1,0 +1,118 @@
+//! The state-transfer service: applies one mesh edit and keeps the physics consistent.
+
+use crate::cloth::Cloth;
+use crate::collision::Obstacles;
+use crate::math::{Real, Vec3};
+use crate::mesh::{Edit, EditError, EditRecord, Origin, VertexId};
+
+/// What [`apply_edit`] did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Transfer {
+    /// The mesh's record of the edit.
+    pub record: EditRecord,
+    /// Linear momentum of the touched vertices before minus after, once restored (kg m/s, norm).
+    pub momentum_change: Real,
+    /// Kinetic energy after minus before (J): the energy lost by averaging velocities.
+    pub kinetic_energy_change: Real,
+}
+
+/// Applies `edit` to the cloth (MODEL.md §6): the mesh edit is checked (the cloth is untouched on
+/// error); new vertices take `x`, `v` interpolated from their origin; with `obstacles`, new vertices
+/// inside an obstacle are pushed out; masses and drag of every touched vertex are recomputed; with
+/// `restore_momentum`, a uniform velocity correction over the touched movable vertices restores
+/// their linear momentum. Spring and bending arrays are rebuilt later by [`Cloth::refresh`].
+pub fn apply_edit(
+    cloth: &mut Cloth,
+    edit: &Edit,
+    obstacles: Option<&Obstacles>,
+    restore_momentum: bool,
+) -> Result<Transfer, EditError> {
+    // Old vertices whose mass changes: every vertex of a removed face.
+    let mut touched: Vec<VertexId> = edit
+        .remove
+        .iter()
+        .filter(|&&f| cloth.mesh.is_face(f))
+        .flat_map(|&f| cloth.mesh.face(f))
+        .collect();
+    touched.sort_unstable();
+    touched.dedup();
+    let (momentum_before, energy_before) = momentum_and_energy(cloth, &touched);
+    let interpolated: Vec<(Vec3, Vec3)> = edit
+        .new_vertices
+        .iter()
+        .map(|n| interpolate(cloth, n.origin))
+        .collect();
+
+    let record = cloth.mesh.replace(edit)?;
+
+    cloth.refresh_state_len();
+    for v in &record.removed_vertices {
+        cloth.x[v.0 as usize] = Vec3::zeros();
+        cloth.v[v.0 as usize] = Vec3::zeros();
+    }
+    for ((v, _), (x, vel)) in record.added_vertices.iter().zip(interpolated) {
+        let x = obstacles.map_or(x, |o| o.push_out(x));
+        cloth.x[v.0 as usize] = x;
+        cloth.v[v.0 as usize] = vel;
+    }
+    touched.extend(record.added_vertices.iter().map(|(v, _)| *v));
+    touched.sort_unstable();
+    touched.dedup();
+    cloth.model.update_vertices(&cloth.mesh, &touched);
+
+    let (mut momentum_after, _) = momentum_and_energy(cloth, &touched);
+    if restore_momentum {
+        let inv = cloth.model.inv_mass();
+        let mass = cloth.model.mass();
+        let movable_mass: Real = touched
+            .iter()
+            .filter(|v| inv[v.0 as usize] > 0.0)
+            .map(|v| mass[v.0 as usize])
+            .sum();
+        if movable_mass > 0.0 {
+            let dv = (momentum_before - momentum_after) / movable_mass;
+            for v in &touched {
+                if inv[v.0 as usize] > 0.0 {
+                    cloth.v[v.0 as usize] += dv;
+                }
+            }
+            momentum_after = momentum_and_energy(cloth, &touched).0;
+        }
+    }
+    let energy_after = momentum_and_energy(cloth, &touched).1;
+    Ok(Transfer {
+        record,
+        momentum_change: (momentum_before - momentum_after).norm(),
+        kinetic_energy_change: energy_after - energy_before,
+    })
+}
+
+/// World position and velocity interpolated at a new vertex's origin.
+fn interpolate(cloth: &Cloth, origin: Origin) -> (Vec3, Vec3) {
+    match origin {
+        Origin::Midpoint(a, b) => {
+            let (a, b) = (a.0 as usize, b.0 as usize);
+            ((cloth.x[a] + cloth.x[b]) * 0.5, (cloth.v[a] + cloth.v[b]) * 0.5)
+        }
+        Origin::InTriangle { corners, weights } => {
+            let mut x = Vec3::zeros();
+            let mut v = Vec3::zeros();
+            for k in 0..3 {
+                x += cloth.x[corners[k].0 as usize] * weights[k];
+                v += cloth.v[corners[k].0 as usize] * weights[k];
+            }
+            (x, v)
+        }
+    }
+}
+
+/// Linear momentum (kg m/s) and kinetic energy (J) of the given vertices.
+fn momentum_and_energy(cloth: &Cloth, vertices: &[VertexId]) -> (Vec3, Real) {
+    let m = cloth.model.mass();
+    vertices.iter().fold((Vec3::zeros(), 0.0), |(p, e), v| {
+        let i = v.0 as usize;
+        let mi = m.get(i).copied().unwrap_or(0.0);
+        let vi = cloth.v.get(i).copied().unwrap_or_else(Vec3::zeros);
+        (p + vi * mi, e + 0.5 * mi * vi.norm_squared())
+    })
+}

@@ -1,0 +1,154 @@
+//! Scene loading: the shipped scenes parse, overrides work, bad input gets a clear error.
+use super::*;
+
+fn text_of(name: &str) -> &'static str {
+    EMBEDDED_SCENES
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, t)| *t)
+        .expect("embedded scene")
+}
+
+fn load_text(text: &str, overrides: &[&str]) -> Result<LoadedScene, SceneError> {
+    let overrides: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    let base = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    from_text(text, "test.toml", "test", base, &overrides)
+}
+
+#[test]
+fn every_embedded_scene_loads() {
+    for (name, _) in EMBEDDED_SCENES {
+        let loaded = load_embedded(name, &[]).expect("embedded").expect("valid");
+        assert_eq!(&loaded.scene.name, name);
+    }
+}
+
+#[test]
+fn source_parameters_are_read_under_their_names() {
+    let s = load_embedded("bunny", &[]).unwrap().unwrap().scene;
+    assert_eq!(s.material.rho, 8000.0);
+    assert_eq!(s.material.thickness, 1e-4);
+    assert_eq!(s.material.kappa, 3.0);
+    assert_eq!(s.material.young, 1e7);
+    assert_eq!(s.material.mu, 0.4);
+    assert_eq!(s.adaptivity.l_min, 0.13);
+    assert_eq!(s.adaptivity.l_max, 0.40);
+    assert_eq!(s.adaptivity.density_simplify, 0.75);
+    assert_eq!(s.obstacles.len(), 2);
+    assert_eq!(s.obstacles[0].friction, 0.01);
+    let t = load_embedded("round_table", &[]).unwrap().unwrap().scene;
+    assert_eq!(t.material.kappa, 3.5);
+    assert_eq!(t.adaptivity.t_simplify, 0.02);
+    assert_eq!(t.adaptivity.c2, 0.65);
+    match t.obstacles[0].shape {
+        ObstacleShape::Cylinder { radius, .. } => assert_eq!(radius, 0.35),
+        ref other => panic!("round table is {other:?}"),
+    }
+}
+
+#[test]
+fn set_overrides_any_key_and_converts_integers_for_floats() {
+    let s = load_text(
+        text_of("sphere"),
+        &[
+            "cloth.resolution=17",
+            "material.E=1e9",
+            "time.duration=1",
+            "obstacles.0.radius=0.3",
+            "forces.drag=false",
+            "integrator.name=symplectic_euler",
+        ],
+    )
+    .unwrap()
+    .scene;
+    assert_eq!(s.cloth.resolution, 17);
+    assert_eq!(s.material.young, 1e9);
+    assert_eq!(s.time.duration, 1.0);
+    assert!(!s.forces.drag);
+    assert_eq!(s.integrator.name, "symplectic_euler");
+    match s.obstacles[0].shape {
+        ObstacleShape::Sphere { radius, .. } => assert_eq!(radius, 0.3),
+        ref other => panic!("{other:?}"),
+    }
+}
+
+#[test]
+fn set_of_a_key_absent_from_the_file_but_in_the_schema_works() {
+    let s = load_text("[time]\nduration = 0.1\n", &["time.dt_max=1e-3"]).unwrap();
+    assert_eq!(s.scene.time.dt_max, 1e-3);
+}
+
+#[test]
+fn unknown_key_in_file_is_named_with_its_line() {
+    let text = "[cloth]\nresolution = 5\n\n[material]\nrho = 1000.0\nstiffnes = 3\n";
+    let e = load_text(text, &[]).unwrap_err().to_string();
+    assert!(e.contains("stiffnes"), "{e}");
+    assert!(e.contains("line 6"), "{e}");
+}
+
+#[test]
+fn wrong_type_is_reported_with_its_line() {
+    let e = load_text("[cloth]\nresolution = \"five\"\n", &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("line 2"), "{e}");
+}
+
+#[test]
+fn out_of_range_values_are_rejected_with_key_line_and_expectation() {
+    let cases = [
+        ("[material]\nrho = -1.0\n", "material.rho", ":2"),
+        ("[time]\ndt = 0.0\n", "time.dt", ":2"),
+        ("[time]\nduration = -2\n", "time.duration", ":2"),
+        ("[collision]\nrestitution = 1.5\n", "collision.restitution", ":2"),
+        ("[collision]\nrestitution = 0.0\n", "collision.restitution", ":2"),
+        ("[cloth]\nresolution = 1\n", "cloth.resolution", ":2"),
+        (
+            "[[obstacles]]\nkind = \"sphere\"\ncenter = [0,0,0]\nradius = -1\n",
+            "obstacles.0.radius",
+            ":4",
+        ),
+    ];
+    for (text, key, line) in cases {
+        let e = load_text(text, &[]).unwrap_err();
+        assert!(matches!(e, SceneError::Invalid { .. }), "{text}: {e}");
+        let msg = e.to_string();
+        assert!(msg.contains(key), "{msg}");
+        assert!(msg.contains(&format!("test.toml{line}")), "{msg}");
+    }
+}
+
+#[test]
+fn missing_mesh_file_is_rejected() {
+    let text = "[[obstacles]]\nkind = \"mesh\"\nfile = \"meshes/nothere.obj\"\n";
+    let e = load_text(text, &[]).unwrap_err().to_string();
+    assert!(e.contains("nothere.obj") && e.contains("not found"), "{e}");
+}
+
+#[test]
+fn unknown_strategy_and_integrator_list_the_valid_ones() {
+    let e = load_text("", &["adaptivity.strategy=foo"])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("static") && e.contains("bisect48"), "{e}");
+    let e = load_text("", &["integrator.name=leapfrog"])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("rk4") && e.contains("symplectic_euler"), "{e}");
+}
+
+#[test]
+fn set_of_an_unknown_key_is_an_error() {
+    for bad in ["cloth.resolutin=3", "nosection.x=1", "obstacles.5.radius=1"] {
+        let e = load_text(text_of("sphere"), &[bad]).unwrap_err();
+        assert!(matches!(e, SceneError::UnknownKey { .. }), "{bad}: {e}");
+    }
+    let e = load_text("", &["cloth.resolution"]).unwrap_err();
+    assert!(matches!(e, SceneError::BadOverride { .. }));
+}
+
+#[test]
+fn set_with_wrong_type_is_an_error_not_a_panic() {
+    let e = load_text("", &["cloth.resolution=abc"]).unwrap_err();
+    assert!(matches!(e, SceneError::Parse { .. }), "{e}");
+}

@@ -1,0 +1,282 @@
+//! Range checks of a parsed scene, reported with the file, the line of the key and what was
+//! expected.
+
+use super::{ClothShape, ObstacleShape, Scene, SceneError, STRATEGIES};
+use crate::math::Real;
+use std::path::Path;
+
+/// Collects the first out-of-range value of a scene.
+struct Checker<'a> {
+    text: &'a str,
+    source: &'a str,
+}
+
+impl Checker<'_> {
+    /// An error for `key` (`section.key`, or `obstacles.N.key`) holding `value`.
+    fn fail(&self, key: &str, value: impl std::fmt::Display, expected: &str) -> SceneError {
+        let line = find_line(self.text, key)
+            .map(|l| format!(":{l}"))
+            .unwrap_or_default();
+        SceneError::Invalid {
+            path: self.source.to_string(),
+            line,
+            key: key.to_string(),
+            value: value.to_string(),
+            expected: expected.to_string(),
+        }
+    }
+
+    fn positive(&self, key: &str, v: Real) -> Result<(), SceneError> {
+        if v.is_finite() && v > 0.0 {
+            Ok(())
+        } else {
+            Err(self.fail(key, v, "expected a finite value > 0"))
+        }
+    }
+
+    fn non_negative(&self, key: &str, v: Real) -> Result<(), SceneError> {
+        if v.is_finite() && v >= 0.0 {
+            Ok(())
+        } else {
+            Err(self.fail(key, v, "expected a finite value >= 0"))
+        }
+    }
+
+    fn open_unit(&self, key: &str, v: Real) -> Result<(), SceneError> {
+        if v > 0.0 && v < 1.0 {
+            Ok(())
+        } else {
+            Err(self.fail(key, v, "expected a value in the open interval (0, 1)"))
+        }
+    }
+
+    fn finite3(&self, key: &str, v: [Real; 3]) -> Result<(), SceneError> {
+        if v.iter().all(|c| c.is_finite()) {
+            Ok(())
+        } else {
+            Err(self.fail(key, format!("{v:?}"), "expected three finite numbers"))
+        }
+    }
+
+    fn one_of(&self, key: &str, v: &str, valid: &[&str]) -> Result<(), SceneError> {
+        if valid.contains(&v) {
+            Ok(())
+        } else {
+            Err(self.fail(key, v, &format!("expected one of: {}", valid.join(", "))))
+        }
+    }
+}
+
+/// Checks every range of MODEL.md and the scene format; mesh files must exist.
+pub(super) fn validate(
+    scene: &Scene,
+    text: &str,
+    source: &str,
+    base_dir: &Path,
+) -> Result<(), SceneError> {
+    let c = Checker { text, source };
+    let cloth = &scene.cloth;
+    c.positive("cloth.size", cloth.size[0].min(cloth.size[1]))?;
+    c.finite3("cloth.center", cloth.center)?;
+    c.finite3("cloth.rotation_deg", cloth.rotation_deg)?;
+    c.finite3("cloth.velocity", cloth.velocity)?;
+    match cloth.shape {
+        ClothShape::Grid => {
+            if cloth.resolution < 2 {
+                return Err(c.fail(
+                    "cloth.resolution",
+                    cloth.resolution,
+                    "expected at least 2 vertices per side",
+                ));
+            }
+            if cloth.resolution_v == 1 {
+                return Err(c.fail(
+                    "cloth.resolution_v",
+                    1,
+                    "expected 0 (same as resolution) or at least 2",
+                ));
+            }
+        }
+        ClothShape::Disk => {
+            if cloth.resolution < 1 {
+                return Err(c.fail("cloth.resolution", 0, "expected at least 1 ring"));
+            }
+        }
+        ClothShape::Obj => {
+            if cloth.mesh.is_empty() {
+                return Err(c.fail("cloth.mesh", "\"\"", "expected an OBJ file for shape = \"obj\""));
+            }
+            let path = base_dir.join(&cloth.mesh);
+            if !path.is_file() {
+                return Err(c.fail(
+                    "cloth.mesh",
+                    &cloth.mesh,
+                    &format!("expected an existing file ({} not found)", path.display()),
+                ));
+            }
+        }
+    }
+    for (i, p) in cloth.pinned.iter().enumerate() {
+        if !p.iter().all(|x| x.is_finite()) {
+            return Err(c.fail(&format!("cloth.pinned[{i}]"), format!("{p:?}"), "expected finite [u, v]"));
+        }
+    }
+
+    let m = &scene.material;
+    c.positive("material.rho", m.rho)?;
+    c.positive("material.T", m.thickness)?;
+    c.non_negative("material.kappa", m.kappa)?;
+    c.positive("material.E", m.young)?;
+    c.non_negative("material.alpha", m.alpha)?;
+    c.non_negative("material.k_b", m.k_b)?;
+    c.non_negative("material.k_bd", m.k_bd)?;
+    c.non_negative("material.mu", m.mu)?;
+    c.positive("material.A0", m.cross_section)?;
+    c.finite3("forces.g", scene.forces.g)?;
+
+    let t = &scene.time;
+    c.positive("time.duration", t.duration)?;
+    c.positive("time.dt", t.dt)?;
+    c.positive("time.beta", t.beta)?;
+    c.non_negative("time.dt_initial", t.dt_initial)?;
+    c.non_negative("time.dt_min", t.dt_min)?;
+    c.non_negative("time.dt_max", t.dt_max)?;
+    if t.dt_max > 0.0 && t.dt_min > t.dt_max {
+        return Err(c.fail("time.dt_min", t.dt_min, "expected dt_min <= dt_max"));
+    }
+    c.positive("time.frame_rate", t.frame_rate)?;
+    c.positive("time.metrics_rate", t.metrics_rate)?;
+    c.positive("time.max_speed", t.max_speed)?;
+
+    c.one_of(
+        "integrator.name",
+        &scene.integrator.name,
+        crate::physics::INTEGRATORS,
+    )?;
+    c.non_negative("collision.margin", scene.collision.margin)?;
+    c.open_unit("collision.restitution", scene.collision.restitution)?;
+
+    for (i, o) in scene.obstacles.iter().enumerate() {
+        let key = |k: &str| format!("obstacles.{i}.{k}");
+        c.non_negative(&key("friction"), o.friction)?;
+        if o.restitution != 0.0 {
+            c.open_unit(&key("restitution"), o.restitution)?;
+        }
+        match &o.shape {
+            ObstacleShape::Ground { height } => {
+                if !height.is_finite() {
+                    return Err(c.fail(&key("height"), height, "expected a finite height"));
+                }
+            }
+            ObstacleShape::Sphere { center, radius } => {
+                c.finite3(&key("center"), *center)?;
+                c.positive(&key("radius"), *radius)?;
+            }
+            ObstacleShape::Cylinder {
+                center,
+                radius,
+                height,
+            } => {
+                c.finite3(&key("center"), *center)?;
+                c.positive(&key("radius"), *radius)?;
+                c.positive(&key("height"), *height)?;
+            }
+            ObstacleShape::Box {
+                center,
+                half_extents,
+            } => {
+                c.finite3(&key("center"), *center)?;
+                c.positive(
+                    &key("half_extents"),
+                    half_extents.iter().copied().fold(Real::INFINITY, Real::min),
+                )?;
+            }
+            ObstacleShape::Mesh {
+                file,
+                scale,
+                translation,
+            } => {
+                c.positive(&key("scale"), *scale)?;
+                c.finite3(&key("translation"), *translation)?;
+                let path = base_dir.join(file);
+                if !path.is_file() {
+                    return Err(c.fail(
+                        &key("file"),
+                        file,
+                        &format!("expected an existing OBJ file ({} not found)", path.display()),
+                    ));
+                }
+            }
+        }
+    }
+
+    let a = &scene.adaptivity;
+    c.one_of("adaptivity.strategy", &a.strategy, STRATEGIES)?;
+    c.open_unit("adaptivity.compression_c", a.compression_c)?;
+    for (k, v) in [("cos_refine", a.cos_refine), ("cos_simplify", a.cos_simplify)] {
+        if !(-1.0..=1.0).contains(&v) {
+            return Err(c.fail(&format!("adaptivity.{k}"), v, "expected a cosine in [-1, 1]"));
+        }
+    }
+    c.positive("adaptivity.l_min", a.l_min)?;
+    c.positive("adaptivity.l_max", a.l_max)?;
+    if a.l_min >= a.l_max {
+        return Err(c.fail("adaptivity.l_min", a.l_min, "expected l_min < l_max"));
+    }
+    c.positive("adaptivity.c2", a.c2)?;
+    c.non_negative("adaptivity.t_simplify", a.t_simplify)?;
+    c.positive("adaptivity.density_refine", a.density_refine)?;
+    c.positive("adaptivity.density_simplify", a.density_simplify)?;
+    c.positive("adaptivity.depth_factor", a.depth_factor)?;
+
+    for (i, p) in scene.tracked.iter().enumerate() {
+        if !p.rest.iter().all(|x| x.is_finite()) {
+            return Err(c.fail(
+                &format!("tracked.{i}.rest"),
+                format!("{:?}", p.rest),
+                "expected finite [u, v]",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The 1-based line of `key` in the scene text: `section.key` under `[section]`, `obstacles.N.key`
+/// under the N-th `[[obstacles]]`, `section.key[..]` for list elements. `None` when the key is not
+/// written in the file (a default, or set by `--set`).
+pub(super) fn find_line(text: &str, key: &str) -> Option<usize> {
+    let key = key.split('[').next()?;
+    let parts: Vec<&str> = key.split('.').collect();
+    let (section, index, name) = match parts.as_slice() {
+        [name] => ("", None, *name),
+        [section, name] => (*section, None, *name),
+        [section, index, name] => (*section, index.parse::<usize>().ok(), *name),
+        _ => return None,
+    };
+    let mut current = String::new();
+    let mut seen_array = 0usize;
+    let mut current_index = None;
+    for (n, line) in text.lines().enumerate() {
+        let l = line.trim();
+        if let Some(h) = l.strip_prefix("[[").and_then(|r| r.split("]]").next()) {
+            current = h.trim().to_string();
+            if current == section {
+                current_index = Some(seen_array);
+                seen_array += 1;
+            }
+            continue;
+        }
+        if let Some(h) = l.strip_prefix('[').and_then(|r| r.split(']').next()) {
+            current = h.trim().to_string();
+            current_index = None;
+            continue;
+        }
+        let Some((k, _)) = l.split_once('=') else {
+            continue;
+        };
+        if current == section && k.trim() == name && (index.is_none() || index == current_index) {
+            return Some(n + 1);
+        }
+    }
+    None
+}

@@ -1,0 +1,306 @@
+//! The step loop. One step reads in one function, [`Simulation::step`]: choose `dt`, integrate,
+//! collide, adapt; each stage is timed. Recording and the run driver are in [`run`].
+
+mod run;
+mod setup;
+
+pub use run::{run, RunOptions, RunStatus, RunSummary};
+pub use setup::{build_cloth, SetupError};
+
+use crate::adapt::{AdaptContext, AdaptReport, Adaptivity};
+use crate::cloth::Cloth;
+use crate::collision::{ContactStats, Obstacles};
+use crate::math::{Real, Vec2, Vec3};
+use crate::mesh::{Barycentric, RestLocator};
+use crate::physics::{make_integrator, Integrator};
+use crate::scene::{LoadedScene, Scene, TimeMode};
+use crate::strategies::make_strategy;
+use std::time::{Duration, Instant};
+
+/// Wall time spent in each stage of the step, summed over the run.
+#[derive(Clone, Copy, Debug, Default, serde::Serialize)]
+pub struct StageTimes {
+    /// Integration (force evaluations included), s.
+    pub integrate_s: f64,
+    /// Collision pass, s.
+    pub collide_s: f64,
+    /// Adaptivity (criteria and edits), s.
+    pub adapt_s: f64,
+    /// Rebuilding element arrays after a mesh change, s.
+    pub rebuild_s: f64,
+    /// Recording metrics and frames, s.
+    pub record_s: f64,
+}
+
+/// What one step did.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StepReport {
+    /// The step taken (s).
+    pub dt: Real,
+    /// Collision statistics of the step.
+    pub contacts: ContactStats,
+    /// What adaptation changed.
+    pub adapt: AdaptReport,
+}
+
+/// Why the simulation cannot go on.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum StepError {
+    /// A non-finite value or a velocity above the scene's bound.
+    #[error("diverged at step {step}, t = {t:.6} s: {reason}")]
+    Diverged {
+        /// Step number.
+        step: u64,
+        /// Simulated time (s).
+        t: Real,
+        /// What was seen.
+        reason: String,
+    },
+    /// Adaptation failed.
+    #[error("adaptation failed at step {step}, t = {t:.6} s: {reason}")]
+    Adapt {
+        /// Step number.
+        step: u64,
+        /// Simulated time (s).
+        t: Real,
+        /// The error.
+        reason: String,
+    },
+}
+
+/// A material point tracked through the run.
+#[derive(Clone, Debug)]
+pub struct Tracked {
+    /// Its name.
+    pub name: String,
+    /// Rest point (m).
+    pub rest: Vec2,
+    location: Barycentric,
+}
+
+/// A running simulation: the scene, the cloth, obstacles, integrator and strategy.
+pub struct Simulation {
+    /// The scene (validated).
+    pub scene: Scene,
+    /// The cloth.
+    pub cloth: Cloth,
+    /// The obstacles.
+    pub obstacles: Obstacles,
+    integrator: Box<dyn Integrator>,
+    strategy: Box<dyn Adaptivity>,
+    /// Simulated time (s).
+    pub t: Real,
+    /// Steps taken.
+    pub steps: u64,
+    /// Tracked material points.
+    pub tracked: Vec<Tracked>,
+    locator: RestLocator,
+    contact_seen: bool,
+    x_start: Vec<Vec3>,
+    /// Wall time per stage.
+    pub stage_times: StageTimes,
+}
+
+impl Simulation {
+    /// Builds everything a scene describes.
+    pub fn new(loaded: &LoadedScene) -> Result<Simulation, SetupError> {
+        let scene = loaded.scene.clone();
+        let cloth = build_cloth(loaded)?;
+        let obstacles = Obstacles::build(&scene.obstacles, &scene.collision, &loaded.base_dir)?;
+        let integrator = make_integrator(&scene.integrator.name)?;
+        let strategy = make_strategy(&scene.adaptivity.strategy)?;
+        let locator = RestLocator::new(&cloth.mesh);
+        let mut tracked = Vec::new();
+        for (i, p) in scene.tracked.iter().enumerate() {
+            let rest = Vec2::new(p.rest[0], p.rest[1]);
+            let location = locator
+                .locate(&cloth.mesh, rest)
+                .ok_or(SetupError::OffPattern {
+                    what: format!("tracked[{i}]"),
+                    u: rest.x,
+                    v: rest.y,
+                })?;
+            let name = if p.name.is_empty() {
+                format!("p{i}")
+            } else {
+                p.name.clone()
+            };
+            tracked.push(Tracked {
+                name,
+                rest,
+                location,
+            });
+        }
+        Ok(Simulation {
+            scene,
+            cloth,
+            obstacles,
+            integrator,
+            strategy,
+            t: 0.0,
+            steps: 0,
+            tracked,
+            locator,
+            contact_seen: false,
+            x_start: Vec::new(),
+            stage_times: StageTimes::default(),
+        })
+    }
+
+    /// The strategy's name.
+    pub fn strategy_name(&self) -> &'static str {
+        self.strategy.name()
+    }
+
+    /// The integrator's name.
+    pub fn integrator_name(&self) -> &'static str {
+        self.integrator.name()
+    }
+
+    /// The step the next call of [`Simulation::step`] will take (s), MODEL.md §4: fixed, or
+    /// `beta pi sqrt(m_min / k_max)` clamped to `[dt_min, dt_max]`, with `dt_initial` until the
+    /// first contact.
+    pub fn next_dt(&self) -> Real {
+        let time = &self.scene.time;
+        if time.mode == TimeMode::Fixed {
+            return time.dt;
+        }
+        if time.dt_initial > 0.0 && !self.contact_seen {
+            return time.dt_initial;
+        }
+        let mut dt = self.cloth.model.stable_step(time.beta);
+        if time.dt_max > 0.0 {
+            dt = dt.min(time.dt_max);
+        }
+        if time.dt_min > 0.0 {
+            dt = dt.max(time.dt_min);
+        }
+        dt
+    }
+
+    /// One step: integrate, collide, adapt. The step is cut so the run ends exactly at
+    /// `duration`. Allocation-free in steady state (no mesh change).
+    pub fn step(&mut self) -> Result<StepReport, StepError> {
+        let dt = self
+            .next_dt()
+            .min(self.scene.time.duration - self.t)
+            .max(Real::MIN_POSITIVE);
+
+        let clock = Instant::now();
+        self.x_start.clear();
+        self.x_start.extend_from_slice(&self.cloth.x);
+        let cloth = &mut self.cloth;
+        self.integrator
+            .step(&cloth.model, self.t, dt, &mut cloth.x, &mut cloth.v);
+        self.stage_times.integrate_s += secs(clock.elapsed());
+
+        let clock = Instant::now();
+        let contacts = if self.obstacles.is_empty() {
+            ContactStats::default()
+        } else {
+            self.obstacles.respond(
+                &self.x_start,
+                &mut cloth.x,
+                &mut cloth.v,
+                cloth.model.inv_mass(),
+                self.scene.material.mu,
+                dt,
+            )
+        };
+        self.contact_seen |= contacts.contacts > 0;
+        self.stage_times.collide_s += secs(clock.elapsed());
+        self.t += dt;
+        self.steps += 1;
+        self.check_finite()?;
+
+        let clock = Instant::now();
+        let ctx = AdaptContext {
+            obstacles: &self.obstacles,
+            time: self.t,
+            spec: &self.scene.adaptivity,
+        };
+        let adapt = self
+            .strategy
+            .adapt(&mut self.cloth, &ctx)
+            .map_err(|e| StepError::Adapt {
+                step: self.steps,
+                t: self.t,
+                reason: e.to_string(),
+            })?;
+        self.stage_times.adapt_s += secs(clock.elapsed());
+        if adapt.events > 0 {
+            let clock = Instant::now();
+            self.cloth.refresh();
+            self.relocate_tracked();
+            self.stage_times.rebuild_s += secs(clock.elapsed());
+        }
+        Ok(StepReport {
+            dt,
+            contacts,
+            adapt,
+        })
+    }
+
+    /// True when the run reached its duration.
+    pub fn finished(&self) -> bool {
+        self.t >= self.scene.time.duration * (1.0 - 1e-12)
+    }
+
+    /// World positions (m) of the tracked points.
+    pub fn tracked_positions(&self) -> impl Iterator<Item = Vec3> + '_ {
+        self.tracked
+            .iter()
+            .map(|p| self.cloth.world_position(&p.location))
+    }
+
+    /// Largest depth of a cloth vertex inside an obstacle's raw surface (m).
+    pub fn max_penetration(&self) -> Real {
+        self.cloth
+            .mesh
+            .vertices()
+            .map(|v| self.obstacles.penetration(self.cloth.x[v.0 as usize]))
+            .fold(0.0, Real::max)
+    }
+
+    /// Locates the tracked material points again after a mesh change.
+    fn relocate_tracked(&mut self) {
+        self.locator = RestLocator::new(&self.cloth.mesh);
+        for p in &mut self.tracked {
+            if let Some(loc) = self.locator.locate(&self.cloth.mesh, p.rest) {
+                p.location = loc;
+            }
+        }
+    }
+
+    /// Fails when a live vertex has a non-finite position or velocity, or moves faster than the
+    /// scene's `max_speed`.
+    fn check_finite(&self) -> Result<(), StepError> {
+        let max_speed2 = self.scene.time.max_speed.powi(2);
+        for v in self.cloth.mesh.vertices() {
+            let i = v.0 as usize;
+            let (x, vel) = (self.cloth.x[i], self.cloth.v[i]);
+            let reason = if !(x.iter().all(|c| c.is_finite()) && vel.iter().all(|c| c.is_finite()))
+            {
+                format!("vertex {i} has a non-finite position or velocity")
+            } else if vel.norm_squared() > max_speed2 {
+                format!(
+                    "vertex {i} moves at {:.3e} m/s, above time.max_speed = {} m/s",
+                    vel.norm(),
+                    self.scene.time.max_speed
+                )
+            } else {
+                continue;
+            };
+            return Err(StepError::Diverged {
+                step: self.steps,
+                t: self.t,
+                reason,
+            });
+        }
+        Ok(())
+    }
+}
+
+fn secs(d: Duration) -> f64 {
+    d.as_secs_f64()
+}

@@ -1,0 +1,237 @@
+//! The run driver: steps the simulation to its duration, records metrics and frames, shows
+//! progress, and stops cleanly on divergence, adaptation failure, a non-conforming frame or an
+//! interrupt, with everything recorded so far on disk and a summary saying why it stopped.
+
+use super::{Simulation, StageTimes, StepError};
+use crate::math::Real;
+use crate::output::{frame_path, write_atomic, write_frame, MetricsRow, MetricsWriter};
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use serde::Serialize;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+/// How a run is driven.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Output folder (created if missing).
+    pub out_dir: PathBuf,
+    /// Show a progress bar on stderr (it stays hidden when stderr is not a terminal).
+    pub progress: bool,
+    /// Set to true (e.g. by Ctrl-C) to stop the run cleanly.
+    pub interrupt: Option<Arc<AtomicBool>>,
+    /// Where the scene came from, for the summary.
+    pub source: String,
+}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunStatus {
+    /// Reached the scene's duration.
+    Completed,
+    /// Non-finite state or a velocity above `time.max_speed`.
+    Diverged,
+    /// Stopped by the user.
+    Interrupted,
+    /// Adaptation failed or a frame broke a conformity rule.
+    Failed,
+}
+
+/// `summary.json`: what ran, how long it took, how it ended.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSummary {
+    /// Scene name.
+    pub scene: String,
+    /// Scene file or `<embedded NAME>`.
+    pub source: String,
+    /// Strategy.
+    pub strategy: String,
+    /// Integrator.
+    pub integrator: String,
+    /// Steps taken.
+    pub steps: u64,
+    /// Simulated time reached (s).
+    pub sim_time: Real,
+    /// Wall time of the run (s).
+    pub wall_time_s: f64,
+    /// Largest live vertex count.
+    pub max_vertices: usize,
+    /// Final live vertex count.
+    pub final_vertices: usize,
+    /// Frames written.
+    pub frames: usize,
+    /// Largest depth inside an obstacle over the recorded rows (m).
+    pub max_penetration: Real,
+    /// How the run ended.
+    pub status: RunStatus,
+    /// Why it stopped, when not completed.
+    pub message: String,
+    /// Wall time per stage of the step.
+    pub stage_times: StageTimes,
+}
+
+/// Runs `sim` to its duration, writing `frames/`, `metrics.csv` and `summary.json` to
+/// `opts.out_dir`. I/O errors are returned; simulation failures end the run with a status.
+pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummary> {
+    let started = Instant::now();
+    let frames_dir = opts.out_dir.join("frames");
+    std::fs::create_dir_all(&frames_dir)?;
+    for entry in std::fs::read_dir(&frames_dir)? {
+        let path = entry?.path();
+        let stale = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .is_some_and(|n| n.starts_with("frame_") && n.ends_with(".obj"));
+        if stale {
+            std::fs::remove_file(path)?;
+        }
+    }
+    let _ = std::fs::remove_file(opts.out_dir.join("summary.json"));
+    let mut metrics = MetricsWriter::create(&opts.out_dir, sim.tracked.len())?;
+    let bar = progress_bar(sim, opts.progress);
+
+    let frame_period = 1.0 / sim.scene.time.frame_rate;
+    let metrics_period = 1.0 / sim.scene.time.metrics_rate;
+    let mut frames = 0usize;
+    let mut max_vertices = sim.cloth.mesh.vertex_count();
+    let mut max_penetration: Real = 0.0;
+    let mut last = super::StepReport::default();
+    let mut next_metrics = 0.0;
+    let (mut status, mut message) = (RunStatus::Completed, String::new());
+    let mut last_flush = Instant::now();
+
+    loop {
+        let clock = Instant::now();
+        let due_frame = sim.t >= frames as Real * frame_period - 1e-9 * frame_period;
+        let done = sim.finished();
+        if due_frame || done || sim.t >= next_metrics || last.adapt.events > 0 {
+            let row = metrics_row(sim, &last);
+            max_penetration = max_penetration.max(row.max_penetration);
+            metrics.row(&row)?;
+            while next_metrics <= sim.t {
+                next_metrics += metrics_period;
+            }
+        }
+        if due_frame {
+            if let Err(e) = sim.cloth.mesh.check() {
+                status = RunStatus::Failed;
+                message = format!(
+                    "frame {frames} at step {}, t = {:.6} s breaks a conformity rule: {e}",
+                    sim.steps, sim.t
+                );
+            }
+            write_frame(
+                &frame_path(&opts.out_dir, frames),
+                &sim.cloth.mesh,
+                &sim.cloth.x,
+                sim.t,
+            )?;
+            frames += 1;
+        }
+        if last_flush.elapsed() > Duration::from_secs(2) {
+            metrics.flush()?;
+            last_flush = Instant::now();
+        }
+        sim.stage_times.record_s += clock.elapsed().as_secs_f64();
+        if done || status != RunStatus::Completed {
+            break;
+        }
+        if opts
+            .interrupt
+            .as_ref()
+            .is_some_and(|f| f.load(Ordering::Relaxed))
+        {
+            status = RunStatus::Interrupted;
+            message = format!("interrupted at step {}, t = {:.6} s", sim.steps, sim.t);
+            break;
+        }
+        match sim.step() {
+            Ok(report) => last = report,
+            Err(e) => {
+                status = match e {
+                    StepError::Diverged { .. } => RunStatus::Diverged,
+                    StepError::Adapt { .. } => RunStatus::Failed,
+                };
+                message = e.to_string();
+                let row = metrics_row(sim, &last);
+                metrics.row(&row)?;
+                break;
+            }
+        }
+        max_vertices = max_vertices.max(sim.cloth.mesh.vertex_count());
+        if sim.steps % 64 == 0 {
+            bar.set_position((sim.t * 1e3) as u64);
+            bar.set_message(format!(
+                "{} steps, {} vertices, dt {:.2e} s",
+                sim.steps,
+                sim.cloth.mesh.vertex_count(),
+                last.dt
+            ));
+        }
+    }
+    bar.finish_and_clear();
+    metrics.finish()?;
+    let summary = RunSummary {
+        scene: sim.scene.name.clone(),
+        source: opts.source.clone(),
+        strategy: sim.strategy_name().to_string(),
+        integrator: sim.integrator_name().to_string(),
+        steps: sim.steps,
+        sim_time: sim.t,
+        wall_time_s: started.elapsed().as_secs_f64(),
+        max_vertices,
+        final_vertices: sim.cloth.mesh.vertex_count(),
+        frames,
+        max_penetration,
+        status,
+        message,
+        stage_times: sim.stage_times,
+    };
+    let json = serde_json::to_string_pretty(&summary).map_err(std::io::Error::other)?;
+    write_atomic(&opts.out_dir.join("summary.json"), json.as_bytes())?;
+    Ok(summary)
+}
+
+/// The metrics of the current state; `last` is the step just taken.
+fn metrics_row(sim: &Simulation, last: &super::StepReport) -> MetricsRow {
+    let cloth = &sim.cloth;
+    MetricsRow {
+        step: sim.steps,
+        t: sim.t,
+        dt: last.dt,
+        vertices: cloth.mesh.vertex_count(),
+        edges: cloth.mesh.edge_count(),
+        faces: cloth.mesh.face_count(),
+        min_mass: cloth.model.min_mass(),
+        max_stiffness: cloth.model.max_stiffness(),
+        total_mass: cloth.model.total_mass(),
+        linear_momentum: cloth.linear_momentum().norm(),
+        kinetic_energy: cloth.kinetic_energy(),
+        max_penetration: sim.max_penetration(),
+        contacts: last.contacts.contacts,
+        adapt_events: last.adapt.events,
+        adapt_energy_change: last.adapt.kinetic_energy_change,
+        tracked: sim.tracked_positions().collect(),
+    }
+}
+
+/// A progress bar over simulated milliseconds, hidden unless asked for and on a terminal.
+fn progress_bar(sim: &Simulation, show: bool) -> ProgressBar {
+    let total_ms = (sim.scene.time.duration * 1e3).ceil() as u64;
+    let bar = ProgressBar::with_draw_target(
+        Some(total_ms),
+        if show {
+            ProgressDrawTarget::stderr()
+        } else {
+            ProgressDrawTarget::hidden()
+        },
+    );
+    if let Ok(style) = ProgressStyle::with_template(
+        "{spinner} [{bar:30}] {pos}/{len} ms simulated, {msg}, ETA {eta}",
+    ) {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar
+}

@@ -1,0 +1,107 @@
+//! Building the cloth from the scene's `[cloth]` section: pattern, placement, pinned vertices.
+
+use crate::cloth::Cloth;
+use crate::math::{Real, Vec2, Vec3};
+use crate::mesh::{self, Mesh, VertexId};
+use crate::scene::{ClothShape, LoadedScene};
+use nalgebra::{Rotation3, Vector3};
+
+/// Why a scene's cloth could not be built.
+#[derive(Debug, thiserror::Error)]
+pub enum SetupError {
+    /// The OBJ cloth could not be read.
+    #[error("cloth mesh: {0}")]
+    Obj(#[from] mesh::ObjError),
+    /// The obstacles could not be built.
+    #[error("obstacles: {0}")]
+    Collision(#[from] crate::collision::CollisionError),
+    /// A pinned or tracked rest point is not on the pattern.
+    #[error("{what} [{u}, {v}] is not on the cloth pattern (rest space)")]
+    OffPattern {
+        /// `cloth.pinned[i]` or `tracked[i]`.
+        what: String,
+        /// Rest u (m).
+        u: Real,
+        /// Rest v (m).
+        v: Real,
+    },
+    /// The strategy is unknown or not built.
+    #[error("{0}")]
+    Strategy(#[from] crate::strategies::StrategyError),
+    /// The integrator is unknown.
+    #[error("{0}")]
+    Integrator(#[from] crate::physics::UnknownIntegrator),
+}
+
+/// Builds the cloth of a scene: the pattern mesh, its world placement (the pattern centre at
+/// `center`, rotated by `rotation_deg` about x, y, z), initial velocity and pinned vertices.
+pub fn build_cloth(loaded: &LoadedScene) -> Result<Cloth, SetupError> {
+    let spec = &loaded.scene.cloth;
+    let (mut mesh, positions) = match spec.shape {
+        ClothShape::Grid => {
+            let ny = if spec.resolution_v == 0 {
+                spec.resolution
+            } else {
+                spec.resolution_v
+            };
+            let mesh = mesh::union_jack(spec.resolution, ny, spec.size[0], spec.size[1]);
+            let positions = place(&mesh, spec.size, spec.center, spec.rotation_deg);
+            (mesh, positions)
+        }
+        ClothShape::Disk => {
+            let radius = 0.5 * spec.size[0];
+            let mesh = mesh::disk(radius, spec.resolution);
+            let positions = place(&mesh, [spec.size[0]; 2], spec.center, spec.rotation_deg);
+            (mesh, positions)
+        }
+        ClothShape::Obj => {
+            let obj = mesh::load_obj(&loaded.base_dir.join(&spec.mesh))?;
+            (obj.mesh, obj.positions)
+        }
+    };
+    for (i, p) in spec.pinned.iter().enumerate() {
+        let v = nearest_vertex(&mesh, Vec2::new(p[0], p[1])).ok_or(SetupError::OffPattern {
+            what: format!("cloth.pinned[{i}]"),
+            u: p[0],
+            v: p[1],
+        })?;
+        mesh.set_pinned(v, true);
+    }
+    let s = &loaded.scene;
+    Ok(Cloth::new(
+        mesh,
+        positions,
+        Vec3::from(spec.velocity),
+        &s.material,
+        &s.forces,
+    ))
+}
+
+/// World positions of a flat pattern of the given rest size (m) centred at `center` (m).
+fn place(mesh: &Mesh, size: [Real; 2], center: [Real; 3], rotation_deg: [Real; 3]) -> Vec<Vec3> {
+    let r = rotation_deg.map(Real::to_radians);
+    let rotation = Rotation3::from_axis_angle(&Vector3::z_axis(), r[2])
+        * Rotation3::from_axis_angle(&Vector3::y_axis(), r[1])
+        * Rotation3::from_axis_angle(&Vector3::x_axis(), r[0]);
+    let center = Vec3::from(center);
+    let mut x = vec![Vec3::zeros(); mesh.vertex_slots()];
+    for v in mesh.vertices() {
+        let p = mesh.rest(v);
+        let local = Vec3::new(p.x - 0.5 * size[0], p.y - 0.5 * size[1], 0.0);
+        x[v.0 as usize] = center + rotation * local;
+    }
+    x
+}
+
+/// The vertex nearest to a rest point, if the point is within one longest edge of it.
+fn nearest_vertex(mesh: &Mesh, p: Vec2) -> Option<VertexId> {
+    let longest = mesh
+        .edges()
+        .map(|(e, _)| mesh.rest_length(e.0, e.1))
+        .fold(0.0, Real::max);
+    mesh.vertices()
+        .map(|v| (v, (mesh.rest(v) - p).norm()))
+        .filter(|&(_, d)| d <= longest)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(v, _)| v)
+}

@@ -1,0 +1,65 @@
+//! The command line: bad input exits with status 2 and a clear message, never a panic.
+use std::process::Command;
+
+fn adaptcloth(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .args(args)
+        .output()
+        .expect("binary runs");
+    let text = String::from_utf8_lossy(&out.stderr).into_owned();
+    (out.status.code().unwrap_or(-1), text)
+}
+
+#[test]
+fn bad_input_exits_2_with_a_clear_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "[material]\nrho = -5.0\n").unwrap();
+    let typo = dir.path().join("typo.toml");
+    std::fs::write(&typo, "[cloth]\nresolution = 5\nresolutoin = 6\n").unwrap();
+    let missing_mesh = dir.path().join("mesh.toml");
+    std::fs::write(
+        &missing_mesh,
+        "[[obstacles]]\nkind = \"mesh\"\nfile = \"gone.obj\"\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let out = out.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["run", bad.to_str().unwrap()], "material.rho"),
+        (vec!["run", typo.to_str().unwrap()], "resolutoin"),
+        (vec!["run", missing_mesh.to_str().unwrap()], "gone.obj"),
+        (vec!["run", "no_such_scene"], "no such file"),
+        (vec!["run", "--strategy", "magic"], "bisect48"),
+        (vec!["run", "--integrator", "leapfrog"], "symplectic_euler"),
+        (vec!["run", "--set", "cloth.nokey=1"], "cloth.nokey"),
+        (vec!["run", "--set", "time.dt=0"], "time.dt"),
+        (vec!["run", "--set", "cloth.resolution=1"], "cloth.resolution"),
+        (vec!["run", "--duration=-1"], "time.duration"),
+        (vec!["run", "--strategy", "remesh", "--out", out], "not built yet"),
+    ];
+    for (args, needle) in cases {
+        let (code, err) = adaptcloth(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn run_writes_outputs_and_exits_0() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let (code, err) = adaptcloth(&[
+        "run",
+        "--duration",
+        "0.02",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(out.join("summary.json").is_file());
+    assert!(out.join("metrics.csv").is_file());
+    assert!(out.join("frames/frame_00001.obj").is_file());
+}
