@@ -300,11 +300,9 @@ impl Mesh {
 
     /// True when the vertex lies on the cloth border (it has a border edge).
     pub fn is_border_vertex(&self, v: VertexId) -> bool {
-        self.neighbours(v).into_iter().any(|w| {
-            self.edge(v, w)
-                .map(|e| e.is_border())
-                .unwrap_or(false)
-        })
+        self.neighbours(v)
+            .into_iter()
+            .any(|w| self.edge(v, w).map(|e| e.is_border()).unwrap_or(false))
     }
 
     // ----- low-level slot operations, used by `edit` and the constructors only -----
