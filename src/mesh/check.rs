@@ -75,6 +75,41 @@ pub(crate) fn is_positive_triangle(a: Vec2, b: Vec2, c: Vec2) -> bool {
     area.is_finite() && l2.is_finite() && area > MIN_AREA_RATIO * l2
 }
 
+/// Checks that the wedges `x -> y` of the faces around one vertex (each face rotated so the vertex
+/// comes first) form a single fan: one cycle (interior vertex) or one open chain (border vertex).
+/// Assumes at most two faces per edge and consistent orientation; says why not otherwise.
+pub(crate) fn single_fan<K: Copy + Eq>(wedges: &[(K, K)]) -> Result<(), String> {
+    let n = wedges.len();
+    if n == 0 {
+        return Err("no faces".into());
+    }
+    // A chain start: a wedge whose first neighbour ends no wedge.
+    let starts: Vec<usize> = (0..n)
+        .filter(|&i| !wedges.iter().any(|w| w.1 == wedges[i].0))
+        .collect();
+    if starts.len() > 1 {
+        return Err(format!("{} separate fans of faces", starts.len()));
+    }
+    let first = starts.first().copied().unwrap_or(0);
+    let mut visited = 1;
+    let mut cur = wedges[first].1;
+    while visited < n {
+        match wedges.iter().position(|w| w.0 == cur) {
+            Some(i) if i != first => {
+                visited += 1;
+                cur = wedges[i].1;
+            }
+            _ => break,
+        }
+    }
+    if visited != n {
+        return Err(format!(
+            "its {n} faces do not form one fan (one fan has {visited})"
+        ));
+    }
+    Ok(())
+}
+
 impl Mesh {
     /// Checks every conformity rule of MODEL.md §1 and returns the first broken one, with the ids
     /// and values where it broke. Near-linear in the mesh size; never panics.
@@ -203,37 +238,8 @@ impl Mesh {
                 let k = (0..3).find(|&k| vs[k] == v).unwrap_or(0);
                 wedges.push((vs[(k + 1) % 3], vs[(k + 2) % 3]));
             }
-            let n = wedges.len();
-            // A chain start: a wedge whose first neighbour ends no wedge.
-            let starts: Vec<usize> = (0..n)
-                .filter(|&i| !wedges.iter().any(|w| w.1 == wedges[i].0))
-                .collect();
-            if starts.len() > 1 {
-                return broken(
-                    Rule::NonManifoldVertex,
-                    format!("vertex {} has {} separate fans of faces", v.0, starts.len()),
-                );
-            }
-            let first = starts.first().copied().unwrap_or(0);
-            let mut visited = 1;
-            let mut cur = wedges[first].1;
-            while visited < n {
-                match wedges.iter().position(|w| w.0 == cur) {
-                    Some(i) if i != first => {
-                        visited += 1;
-                        cur = wedges[i].1;
-                    }
-                    _ => break,
-                }
-            }
-            if visited != n {
-                return broken(
-                    Rule::NonManifoldVertex,
-                    format!(
-                        "vertex {}: its {} faces do not form one fan (one fan has {})",
-                        v.0, n, visited
-                    ),
-                );
+            if let Err(why) = single_fan(&wedges) {
+                return broken(Rule::NonManifoldVertex, format!("vertex {}: {why}", v.0));
             }
         }
         Ok(())

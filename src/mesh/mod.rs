@@ -82,7 +82,7 @@ impl EdgeFaces {
 }
 
 /// The triangle mesh: rest coordinates, faces, derived edges and adjacency, pinned flags.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
     rest: Vec<Vec2>,
     vertex_live: Vec<bool>,
