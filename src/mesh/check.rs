@@ -4,6 +4,7 @@
 //! tests, so it is near-linear: the structural rules use the incremental edge map and the
 //! per-vertex face lists, the only geometric search (T-junctions) uses a uniform grid over rest
 //! space. Cheap structural rules run first; the first broken rule is reported.
+use super::grid::BucketGrid;
 use super::{FaceId, Mesh, VertexId};
 use crate::math::{Real, Vec2};
 use petgraph::unionfind::UnionFind;
@@ -285,7 +286,7 @@ impl Mesh {
     /// size about the mean edge length, and each edge tests the vertices of the cells its
     /// bounding box overlaps.
     fn check_t_junctions(&self) -> Result<(), ConformityError> {
-        let grid = match VertexGrid::new(self) {
+        let grid = match vertex_grid(self) {
             Some(g) => g,
             None => return Ok(()),
         };
@@ -327,102 +328,31 @@ impl Mesh {
     }
 }
 
-/// Live vertices bucketed by rest position in a uniform grid (compressed rows).
-struct VertexGrid {
-    origin: Vec2,
-    inv_cell: Real,
-    nx: usize,
-    ny: usize,
-    start: Vec<u32>,
-    items: Vec<VertexId>,
-}
-
-impl VertexGrid {
-    fn new(mesh: &Mesh) -> Option<VertexGrid> {
-        let mut lo = Vec2::repeat(Real::INFINITY);
-        let mut hi = Vec2::repeat(Real::NEG_INFINITY);
-        for v in mesh.vertices() {
+/// Live vertices bucketed by rest position, cells about the mean edge length but never more than
+/// a few cells per vertex.
+fn vertex_grid(mesh: &Mesh) -> Option<BucketGrid<VertexId>> {
+    let mut lo = Vec2::repeat(Real::INFINITY);
+    let mut hi = Vec2::repeat(Real::NEG_INFINITY);
+    let entries: Vec<(Vec2, Vec2, VertexId)> = mesh
+        .vertices()
+        .map(|v| {
             let p = mesh.rest(v);
             lo = lo.inf(&p);
             hi = hi.sup(&p);
-        }
-        let n = mesh.vertex_count();
-        if n == 0 || !(lo.x.is_finite() && lo.y.is_finite() && hi.x.is_finite() && hi.y.is_finite())
-        {
-            return None;
-        }
-        let mean_edge = if mesh.edge_count() > 0 {
-            mesh.edges()
-                .map(|(k, _)| mesh.rest_length(k.0, k.1))
-                .sum::<Real>()
-                / mesh.edge_count() as Real
-        } else {
-            1.0
-        };
-        let ext = hi - lo;
-        // Cell about the mean edge length, but never more cells than a few per vertex.
-        let min_cell = (ext.x * ext.y / (4.0 * n as Real)).sqrt();
-        let cell = mean_edge
-            .max(min_cell)
-            .max(ext.max() * 1e-6)
-            .max(Real::MIN_POSITIVE);
-        let nx = ((ext.x / cell) as usize + 1).min(1 << 12);
-        let ny = ((ext.y / cell) as usize + 1).min(1 << 12);
-        let mut grid = VertexGrid {
-            origin: lo,
-            inv_cell: 1.0 / cell,
-            nx,
-            ny,
-            start: vec![0; nx * ny + 1],
-            items: vec![VertexId(0); n],
-        };
-        for v in mesh.vertices() {
-            let c = grid.cell_of(mesh.rest(v));
-            grid.start[c + 1] += 1;
-        }
-        for i in 0..nx * ny {
-            grid.start[i + 1] += grid.start[i];
-        }
-        let mut fill = grid.start.clone();
-        for v in mesh.vertices() {
-            let c = grid.cell_of(mesh.rest(v));
-            grid.items[fill[c] as usize] = v;
-            fill[c] += 1;
-        }
-        Some(grid)
+            (p, p, v)
+        })
+        .collect();
+    if entries.is_empty() || !(lo.iter().chain(hi.iter()).all(|x| x.is_finite())) {
+        return None;
     }
-
-    fn coord(&self, x: Real, origin: Real, n: usize) -> usize {
-        let i = ((x - origin) * self.inv_cell).floor();
-        if i.is_nan() || i < 0.0 {
-            0
-        } else {
-            (i as usize).min(n - 1)
-        }
-    }
-
-    fn cell_of(&self, p: Vec2) -> usize {
-        self.coord(p.y, self.origin.y, self.ny) * self.nx + self.coord(p.x, self.origin.x, self.nx)
-    }
-
-    fn for_each_in(&self, lo: Vec2, hi: Vec2, mut f: impl FnMut(VertexId)) {
-        let (i0, i1) = (
-            self.coord(lo.x, self.origin.x, self.nx),
-            self.coord(hi.x, self.origin.x, self.nx),
-        );
-        let (j0, j1) = (
-            self.coord(lo.y, self.origin.y, self.ny),
-            self.coord(hi.y, self.origin.y, self.ny),
-        );
-        for j in j0..=j1 {
-            for i in i0..=i1 {
-                let c = j * self.nx + i;
-                for &v in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
-                    f(v);
-                }
-            }
-        }
-    }
+    let mean_edge = mesh
+        .edges()
+        .map(|(k, _)| mesh.rest_length(k.0, k.1))
+        .sum::<Real>()
+        / mesh.edge_count().max(1) as Real;
+    let ext = hi - lo;
+    let min_cell = (ext.x * ext.y / (4.0 * entries.len() as Real)).sqrt();
+    Some(BucketGrid::new(lo, hi, mean_edge.max(min_cell), &entries))
 }
 
 /// Used by the tests of the mesh module to build broken meshes.

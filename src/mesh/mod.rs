@@ -14,6 +14,7 @@
 mod check;
 mod edit;
 mod generate;
+mod grid;
 mod locate;
 mod obj;
 
