@@ -5,7 +5,7 @@
 //! per-vertex face lists, the only geometric search (T-junctions) uses a uniform grid over rest
 //! space. Cheap structural rules run first; the first broken rule is reported.
 use super::grid::BucketGrid;
-use super::{FaceId, Mesh, VertexId};
+use super::{Mesh, VertexId};
 use crate::math::{Real, Vec2};
 use petgraph::unionfind::UnionFind;
 
@@ -273,7 +273,8 @@ impl Mesh {
     fn check_area(&self) -> Result<(), ConformityError> {
         let total: Real = self.faces().map(|f| self.face_rest_area(f)).sum();
         let pattern = self.pattern_area();
-        if !((total - pattern).abs() <= AREA_REL_TOL * pattern.abs()) {
+        let error = (total - pattern).abs();
+        if error.is_nan() || error > AREA_REL_TOL * pattern.abs() {
             return broken(
                 Rule::AreaMismatch,
                 format!("faces cover {total:e} m², the pattern area is {pattern:e} m²"),
@@ -365,14 +366,14 @@ pub(crate) fn broken_mesh(rest: &[[Real; 2]], faces: &[[u32; 3]]) -> Mesh {
     for f in faces {
         m.push_face([VertexId(f[0]), VertexId(f[1]), VertexId(f[2])]);
     }
-    m.pattern_area = m.faces().map(|f: FaceId| m.face_rest_area(f)).sum();
+    m.pattern_area = m.faces().map(|f: super::FaceId| m.face_rest_area(f)).sum();
     m
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{disk, union_jack};
+    use crate::mesh::{disk, union_jack, FaceId};
 
     fn rule_of(m: &Mesh) -> Rule {
         m.check().expect_err("mesh should be rejected").rule

@@ -326,7 +326,8 @@ impl Mesh {
             let scale = a.abs().max().max(b.abs().max()).max(c.abs().max());
             allowance += 16.0 * Real::EPSILON * scale * ((b - a).norm() + (c - b).norm());
         }
-        if !((area_new - area_old).abs() <= AREA_EDIT_REL_TOL * area_old + allowance) {
+        let error = (area_new - area_old).abs();
+        if error.is_nan() || error > AREA_EDIT_REL_TOL * area_old + allowance {
             return not(format!(
                 "removed faces cover {area_old:e} m², new faces {area_new:e} m² ({} new vertices)",
                 edit.new_vertices.len()
