@@ -21,7 +21,7 @@ mod obj;
 pub use check::{ConformityError, Rule};
 pub use edit::{Edit, EditError, EditRecord, NewVertex, Origin, VertexRef};
 pub use generate::{disk, union_jack};
-pub use locate::{Barycentric, RestLocator};
+pub use locate::{Barycentric, RestLocator, SNAP_REL_TOL};
 pub use obj::{load_obj, ObjCloth, ObjError};
 
 use crate::math::{signed_area, Real, Vec2};
