@@ -2,10 +2,22 @@
 //!
 //! Every strategy's elementary operation (edge split, merge, bisection, region re-mesh) is
 //! expressed as an [`Edit`]. [`Mesh::replace`] validates it, applies it, and returns an
-//! [`EditRecord`]; on any error the mesh is left exactly as it was.
+//! [`EditRecord`]; on any error the mesh is left exactly as it was (everything is validated
+//! before the first mutation).
+//!
+//! Validation, in order: the removed faces are live and distinct; the new vertices have finite
+//! rest coordinates and live origin vertices; the new faces name valid vertices, are
+//! counter-clockwise with a clearly positive rest area, and every new vertex is used; the new faces
+//! tile the removed region exactly: their directed boundary edges cancel those of the removed
+//! region except along the cloth border, where the remaining old and new border edges must cover
+//! the same straight rest-space segments (a border edge bisected, or collinear border edges
+//! merged); the rest areas agree to a relative 1e-12 (plus rounding); no edge gets three faces or
+//! inconsistent orientation, every touched vertex keeps a single fan; no pinned vertex is removed.
 
-use super::{FaceId, Mesh, VertexId};
-use crate::math::{Real, Vec2};
+use super::check::{has_directed, is_positive_triangle, single_fan, ON_EDGE_REL_TOL};
+use super::{ConformityError, FaceId, Mesh, Rule, VertexId};
+use crate::math::{signed_area, Real, Vec2};
+use std::collections::{BTreeMap, BTreeSet};
 
 /// A vertex of a new face: an existing live vertex, or the k-th vertex of [`Edit::new_vertices`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,6 +64,10 @@ pub struct Edit {
 }
 
 /// What an applied edit changed; consumed by the state transfer (module `adapt`).
+///
+/// Face slots freed by the edit are reused by its new faces (so an id may appear in both
+/// `removed_faces` and `added_faces`); vertex slots freed by the edit are not reused by the same
+/// edit (new vertices are created before the emptied ones are freed).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct EditRecord {
     /// Removed faces with the vertices they had.
@@ -92,15 +108,411 @@ pub enum EditError {
     /// The result would break a conformity rule.
     #[error("the edit would break conformity: {0}")]
     Conformity(#[from] super::ConformityError),
+    /// A new vertex has non-finite rest coordinates or an origin naming a vertex that is not live.
+    #[error("new vertex {index} is invalid: {reason}")]
+    BadNewVertex {
+        /// Index into [`Edit::new_vertices`].
+        index: usize,
+        /// What is wrong.
+        reason: String,
+    },
     /// A pinned vertex would be removed.
     #[error("the edit would remove pinned vertex {0:?}")]
     RemovesPinned(VertexId),
 }
 
 impl Mesh {
-    /// Applies `edit` if it keeps the mesh conforming, returning what changed; see the module doc.
+    /// Applies `edit` if it keeps the mesh conforming, returning what changed; see the module doc
+    /// for the rules. On error the mesh is unchanged (including its version).
     pub fn replace(&mut self, edit: &Edit) -> Result<EditRecord, EditError> {
-        let _ = edit;
-        todo!("implemented by the mesh work package")
+        let removed_vertices = self.validate_edit(edit)?;
+        let removed_faces: Vec<(FaceId, [VertexId; 3])> =
+            edit.remove.iter().map(|&f| (f, self.face(f))).collect();
+        for &f in &edit.remove {
+            self.free_face(f);
+        }
+        let new_ids: Vec<VertexId> = edit
+            .new_vertices
+            .iter()
+            .map(|nv| self.push_vertex(nv.rest))
+            .collect();
+        let added_faces = edit
+            .add
+            .iter()
+            .map(|f| self.push_face(f.map(|r| resolve(r, &new_ids))))
+            .collect();
+        for &v in &removed_vertices {
+            self.free_vertex(v);
+        }
+        debug_assert!(
+            self.face_count() >= 2000 || self.check().is_ok(),
+            "edit broke conformity: {:?}",
+            self.check()
+        );
+        Ok(EditRecord {
+            removed_faces,
+            added_faces,
+            added_vertices: new_ids
+                .into_iter()
+                .zip(edit.new_vertices.iter().map(|nv| nv.origin))
+                .collect(),
+            removed_vertices,
+        })
+    }
+
+    /// Validates `edit` without changing anything; returns the vertices it would remove (in id
+    /// order).
+    fn validate_edit(&self, edit: &Edit) -> Result<Vec<VertexId>, EditError> {
+        // Removed faces: live, distinct.
+        if edit.remove.is_empty() {
+            return Err(EditError::NotATiling("the edit removes no face".into()));
+        }
+        let mut removed = BTreeSet::new();
+        for &f in &edit.remove {
+            if !self.is_face(f) || !removed.insert(f) {
+                return Err(EditError::StaleFace(f));
+            }
+        }
+        let region: BTreeSet<VertexId> = removed.iter().flat_map(|&f| self.face(f)).collect();
+        // New vertices.
+        for (index, nv) in edit.new_vertices.iter().enumerate() {
+            let bad = |reason: String| Err(EditError::BadNewVertex { index, reason });
+            if !(nv.rest.x.is_finite() && nv.rest.y.is_finite()) {
+                return bad(format!("rest coordinates {:?}", nv.rest.as_slice()));
+            }
+            let corners: &[VertexId] = match &nv.origin {
+                Origin::Midpoint(a, b) => &[*a, *b][..],
+                Origin::InTriangle { corners, .. } => &corners[..],
+            };
+            if let Some(v) = corners.iter().find(|&&v| !self.is_vertex(v)) {
+                return bad(format!("origin names vertex {} which is not live", v.0));
+            }
+        }
+        // New faces: valid references inside the region, positive area.
+        let pos = |r: Key| match r {
+            Key::Old(v) => self.rest(v),
+            Key::New(k) => edit.new_vertices[k].rest,
+        };
+        let mut used = vec![false; edit.new_vertices.len()];
+        let mut added = Vec::with_capacity(edit.add.len());
+        for (face, refs) in edit.add.iter().enumerate() {
+            let mut keys = [Key::New(0); 3];
+            for (k, &r) in refs.iter().enumerate() {
+                keys[k] = match r {
+                    VertexRef::Old(v) if self.is_vertex(v) => Key::Old(v),
+                    VertexRef::New(i) if i < edit.new_vertices.len() => {
+                        used[i] = true;
+                        Key::New(i)
+                    }
+                    _ => return Err(EditError::BadVertex { face, vertex: r }),
+                };
+            }
+            let [a, b, c] = keys.map(pos);
+            if keys[0] == keys[1]
+                || keys[1] == keys[2]
+                || keys[2] == keys[0]
+                || !is_positive_triangle(a, b, c)
+            {
+                let area = signed_area(a, b, c);
+                return Err(EditError::BadFace { face, area });
+            }
+            if let Some(Key::Old(v)) = keys
+                .iter()
+                .find(|k| matches!(k, Key::Old(v) if !region.contains(v)))
+            {
+                return Err(EditError::NotATiling(format!(
+                    "new face {face} uses vertex {} which is not a vertex of the removed faces",
+                    v.0
+                )));
+            }
+            added.push(keys);
+        }
+        if let Some(k) = used.iter().position(|&u| !u) {
+            return Err(EditError::NotATiling(format!(
+                "new vertex {k} is used by no new face"
+            )));
+        }
+        self.check_tiling(edit, &removed, &added, &pos)?;
+        self.check_local_conformity(&removed, &added)?;
+        // Vertices left without faces.
+        let mut in_new: BTreeSet<VertexId> = BTreeSet::new();
+        for keys in &added {
+            for k in keys {
+                if let Key::Old(v) = *k {
+                    in_new.insert(v);
+                }
+            }
+        }
+        let mut gone = Vec::new();
+        for &v in &region {
+            if !in_new.contains(&v) && self.vertex_faces(v).iter().all(|f| removed.contains(f)) {
+                if self.is_pinned(v) {
+                    return Err(EditError::RemovesPinned(v));
+                }
+                gone.push(v);
+            }
+        }
+        Ok(gone)
+    }
+
+    /// The new faces cover exactly the removed region: directed boundaries cancel except along the
+    /// cloth border, where old and new border chains cover the same straight segments; areas agree.
+    fn check_tiling(
+        &self,
+        edit: &Edit,
+        removed: &BTreeSet<FaceId>,
+        added: &[[Key; 3]],
+        pos: &dyn Fn(Key) -> Vec2,
+    ) -> Result<(), EditError> {
+        let not = |s: String| Err(EditError::NotATiling(s));
+        let mut old_dir = BTreeSet::new();
+        for &f in removed {
+            let vs = self.face(f);
+            for k in 0..3 {
+                old_dir.insert((Key::Old(vs[k]), Key::Old(vs[(k + 1) % 3])));
+            }
+        }
+        let mut new_dir: BTreeMap<(Key, Key), usize> = BTreeMap::new();
+        for (i, keys) in added.iter().enumerate() {
+            for k in 0..3 {
+                let e = (keys[k], keys[(k + 1) % 3]);
+                if let Some(j) = new_dir.insert(e, i) {
+                    return not(format!(
+                        "new faces {j} and {i} overlap (both traverse {e:?})"
+                    ));
+                }
+            }
+        }
+        let old_border: BTreeSet<(Key, Key)> = old_dir
+            .iter()
+            .filter(|&&(a, b)| !old_dir.contains(&(b, a)))
+            .copied()
+            .collect();
+        let new_border: BTreeSet<(Key, Key)> = new_dir
+            .keys()
+            .filter(|&&(a, b)| !new_dir.contains_key(&(b, a)))
+            .copied()
+            .collect();
+        let old_rest: Vec<(Key, Key)> = old_border.difference(&new_border).copied().collect();
+        let new_rest: Vec<(Key, Key)> = new_border.difference(&old_border).copied().collect();
+        // Remaining old edges must be cloth-border edges.
+        for &(a, b) in &old_rest {
+            if let (Key::Old(va), Key::Old(vb)) = (a, b) {
+                if let Some(g) = self
+                    .edge(va, vb)
+                    .and_then(|e| e.iter().find(|g| !removed.contains(g)))
+                {
+                    return not(format!(
+                        "edge {}-{} between the region and kept face {} is not reproduced by the \
+                         new faces",
+                        va.0, vb.0, g.0
+                    ));
+                }
+            }
+        }
+        match_border_chains(&old_rest, &new_rest, pos).or_else(not)?;
+        // Areas.
+        let area_old: Real = removed.iter().map(|&f| self.face_rest_area(f)).sum();
+        let mut area_new = 0.0;
+        let mut allowance = 0.0;
+        for keys in added {
+            let [a, b, c] = keys.map(pos);
+            area_new += signed_area(a, b, c);
+            let scale = a.abs().max().max(b.abs().max()).max(c.abs().max());
+            allowance += 16.0 * Real::EPSILON * scale * ((b - a).norm() + (c - b).norm());
+        }
+        for &f in removed {
+            let [a, b, c] = self.face(f).map(|v| self.rest(v));
+            let scale = a.abs().max().max(b.abs().max()).max(c.abs().max());
+            allowance += 16.0 * Real::EPSILON * scale * ((b - a).norm() + (c - b).norm());
+        }
+        let error = (area_new - area_old).abs();
+        if error.is_nan() || error > AREA_EDIT_REL_TOL * area_old + allowance {
+            return not(format!(
+                "removed faces cover {area_old:e} m², new faces {area_new:e} m² ({} new vertices)",
+                edit.new_vertices.len()
+            ));
+        }
+        Ok(())
+    }
+
+    /// No edge with three faces or inconsistent orientation against the kept mesh, and a single fan
+    /// around every vertex of a new face.
+    fn check_local_conformity(
+        &self,
+        removed: &BTreeSet<FaceId>,
+        added: &[[Key; 3]],
+    ) -> Result<(), EditError> {
+        let conf =
+            |rule: Rule, at: String| Err(EditError::Conformity(ConformityError { rule, at }));
+        for (i, keys) in added.iter().enumerate() {
+            for k in 0..3 {
+                let (Key::Old(a), Key::Old(b)) = (keys[k], keys[(k + 1) % 3]) else {
+                    continue;
+                };
+                let Some(ef) = self.edge(a, b) else { continue };
+                for g in ef.iter().filter(|g| !removed.contains(g)) {
+                    if has_directed(self.face(g), a, b) {
+                        return conf(
+                            Rule::Orientation,
+                            format!(
+                                "new face {i} and kept face {} both traverse {}->{}",
+                                g.0, a.0, b.0
+                            ),
+                        );
+                    }
+                    // A kept face b->a is fine only when no other new face also uses a-b.
+                    let twice = added.iter().enumerate().any(|(j, o)| {
+                        j != i && o.contains(&Key::Old(a)) && o.contains(&Key::Old(b))
+                    });
+                    if twice || ef.extra > 0 {
+                        return conf(
+                            Rule::EdgeFaceCount,
+                            format!("edge {}-{} would have more than two faces", a.0, b.0),
+                        );
+                    }
+                }
+            }
+        }
+        let mut touched: BTreeSet<Key> = BTreeSet::new();
+        for keys in added {
+            touched.extend(keys.iter().copied());
+        }
+        let mut wedges = Vec::new();
+        for &v in &touched {
+            wedges.clear();
+            if let Key::Old(ov) = v {
+                for &f in self
+                    .vertex_faces(ov)
+                    .iter()
+                    .filter(|f| !removed.contains(f))
+                {
+                    let vs = self.face(f).map(Key::Old);
+                    wedges.push(wedge(vs, v));
+                }
+            }
+            for keys in added.iter().filter(|k| k.contains(&v)) {
+                wedges.push(wedge(*keys, v));
+            }
+            if let Err(why) = single_fan(&wedges) {
+                return conf(Rule::NonManifoldVertex, format!("vertex {v:?}: {why}"));
+            }
+        }
+        Ok(())
     }
 }
+
+/// Relative tolerance on the equality of removed and added rest areas (dimensionless).
+const AREA_EDIT_REL_TOL: Real = 1e-12;
+
+/// A vertex of the edit: an existing one or a new one (ordered old first).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+enum Key {
+    Old(VertexId),
+    New(usize),
+}
+
+fn resolve(r: VertexRef, new_ids: &[VertexId]) -> VertexId {
+    match r {
+        VertexRef::Old(v) => v,
+        VertexRef::New(k) => new_ids[k],
+    }
+}
+
+/// The wedge `x -> y` of face `vs` seen from its vertex `v`.
+fn wedge(vs: [Key; 3], v: Key) -> (Key, Key) {
+    let k = (0..3).find(|&k| vs[k] == v).unwrap_or(0);
+    (vs[(k + 1) % 3], vs[(k + 2) % 3])
+}
+
+/// The remaining old and new border edges must cover the same straight rest segments: from every
+/// vertex where both an old and a new chain start, walk both chains along the first old edge's
+/// direction, always advancing the one behind, until they meet at a common vertex; every vertex
+/// passed must lie on that line, strictly ahead. Every edge must be consumed by some walk.
+fn match_border_chains(
+    old: &[(Key, Key)],
+    new: &[(Key, Key)],
+    pos: &dyn Fn(Key) -> Vec2,
+) -> Result<(), String> {
+    let outgoing = |edges: &[(Key, Key)]| -> Result<BTreeMap<Key, Key>, String> {
+        let mut m = BTreeMap::new();
+        for &(a, b) in edges {
+            if m.insert(a, b).is_some() {
+                return Err(format!("two region border edges leave {a:?}"));
+            }
+        }
+        Ok(m)
+    };
+    let (out_old, out_new) = (outgoing(old)?, outgoing(new)?);
+    let mut used_old = BTreeSet::new();
+    let mut used_new = BTreeSet::new();
+    for (&s, &first_old) in &out_old {
+        let Some(&first_new) = out_new.get(&s) else {
+            continue;
+        };
+        if used_old.contains(&s) || used_new.contains(&s) {
+            continue;
+        }
+        used_old.insert(s);
+        used_new.insert(s);
+        let origin = pos(s);
+        let dir = pos(first_old) - origin;
+        let len = dir.norm();
+        let dir = dir / len;
+        let tol = ON_EDGE_REL_TOL * len.max((pos(first_new) - origin).norm());
+        let param = |k: Key| -> Result<Real, String> {
+            let d = pos(k) - origin;
+            if dir.perp(&d).abs() > tol.max(ON_EDGE_REL_TOL * d.norm()) {
+                return Err(format!(
+                    "border vertex {k:?} is off the border line from {s:?}"
+                ));
+            }
+            Ok(d.dot(&dir))
+        };
+        let (mut eo, mut en) = (first_old, first_new);
+        let (mut to, mut tn) = (len, param(en)?);
+        for _ in 0..old.len() + new.len() {
+            if eo == en {
+                break;
+            }
+            let (ends, outs, used, t) = if to < tn {
+                (&mut eo, &out_old, &mut used_old, &mut to)
+            } else {
+                (&mut en, &out_new, &mut used_new, &mut tn)
+            };
+            let from = *ends;
+            let next = *outs
+                .get(&from)
+                .ok_or_else(|| format!("border chains from {s:?} end apart at {from:?}"))?;
+            if !used.insert(from) {
+                return Err(format!("border edge from {from:?} matched twice"));
+            }
+            let tnext = param(next)?;
+            if tnext <= *t {
+                return Err(format!("border chain from {s:?} turns back at {next:?}"));
+            }
+            *ends = next;
+            *t = tnext;
+        }
+        if eo != en {
+            return Err(format!(
+                "border chains from {s:?} do not meet ({eo:?} vs {en:?})"
+            ));
+        }
+    }
+    if let Some(&(a, b)) = old.iter().find(|e| !used_old.contains(&e.0)) {
+        return Err(format!(
+            "old border edge {a:?}->{b:?} is not covered by new faces"
+        ));
+    }
+    if let Some(&(a, b)) = new.iter().find(|e| !used_new.contains(&e.0)) {
+        return Err(format!(
+            "new face edge {a:?}->{b:?} lies outside the removed region"
+        ));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+#[path = "edit_tests.rs"]
+mod tests;

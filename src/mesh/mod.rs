@@ -14,13 +14,14 @@
 mod check;
 mod edit;
 mod generate;
+mod grid;
 mod locate;
 mod obj;
 
 pub use check::{ConformityError, Rule};
 pub use edit::{Edit, EditError, EditRecord, NewVertex, Origin, VertexRef};
 pub use generate::{disk, union_jack};
-pub use locate::{Barycentric, RestLocator};
+pub use locate::{Barycentric, RestLocator, SNAP_REL_TOL};
 pub use obj::{load_obj, ObjCloth, ObjError};
 
 use crate::math::{signed_area, Real, Vec2};
@@ -82,7 +83,7 @@ impl EdgeFaces {
 }
 
 /// The triangle mesh: rest coordinates, faces, derived edges and adjacency, pinned flags.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Mesh {
     rest: Vec<Vec2>,
     vertex_live: Vec<bool>,
@@ -300,11 +301,9 @@ impl Mesh {
 
     /// True when the vertex lies on the cloth border (it has a border edge).
     pub fn is_border_vertex(&self, v: VertexId) -> bool {
-        self.neighbours(v).into_iter().any(|w| {
-            self.edge(v, w)
-                .map(|e| e.is_border())
-                .unwrap_or(false)
-        })
+        self.neighbours(v)
+            .into_iter()
+            .any(|w| self.edge(v, w).map(|e| e.is_border()).unwrap_or(false))
     }
 
     // ----- low-level slot operations, used by `edit` and the constructors only -----

@@ -1,9 +1,21 @@
 //! OBJ loading of a cloth: `v` world positions, `vt` rest coordinates, `f` faces.
-use super::Mesh;
-use crate::math::Vec3;
+//!
+//! Read at scene set-up, before the first step. The parser is hand-written (the format is small
+//! and the `vt` handling is specific): `v x y z` world positions (m; extra numbers such as `w` or
+//! vertex colours are ignored); `vt u v` rest coordinates (m, not normalised texture space; an
+//! optional `w` is ignored); `f` faces whose corners are `a/ta`, `a/ta/na` (normals ignored) with
+//! 1-based or negative (relative) indices, polygons fan-triangulated. Every corner needs a `vt`;
+//! a vertex used with two different rest coordinates would be a seam, which is not supported.
+//! `vn`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib` and comments are ignored; any other statement is
+//! an error. Faces must be consistently oriented in rest space: all clockwise ones are flipped,
+//! mixed orientation is an error. Vertices used by no face are dropped (ids are compacted in file
+//! order).
+use super::{Mesh, MeshError};
+use crate::math::{signed_area, Real, Vec2, Vec3};
 use std::path::Path;
 
 /// A cloth read from OBJ: the mesh (rest space from `vt`) and the world positions.
+#[derive(Clone, Debug)]
 pub struct ObjCloth {
     /// The mesh.
     pub mesh: Mesh,
@@ -11,7 +23,7 @@ pub struct ObjCloth {
     pub positions: Vec<Vec3>,
 }
 
-/// Why an OBJ file could not be read.
+/// Why an OBJ file could not be read. Line numbers are 1-based.
 #[derive(Debug, thiserror::Error)]
 pub enum ObjError {
     /// I/O error.
@@ -22,10 +34,417 @@ pub enum ObjError {
         /// The error.
         source: std::io::Error,
     },
+    /// A statement could not be parsed.
+    #[error("{path}:{line}: {message}")]
+    Parse {
+        /// The file.
+        path: String,
+        /// The line.
+        line: usize,
+        /// What was expected.
+        message: String,
+    },
+    /// A face corner has no texture coordinate (`vt`), so the vertex has no rest position.
+    #[error(
+        "{path}:{line}: face corner has no texture coordinate; every corner needs `v/vt` \
+         (vt gives the rest coordinates in m)"
+    )]
+    NoTexCoords {
+        /// The file.
+        path: String,
+        /// The line.
+        line: usize,
+    },
+    /// A vertex is used with two different texture coordinates (a seam).
+    #[error(
+        "{path}:{line}: vertex {vertex} is used with texture coordinates {first} and {second}; \
+         seams (a vertex with two rest positions) are not supported"
+    )]
+    Seam {
+        /// The file.
+        path: String,
+        /// The line of the second use.
+        line: usize,
+        /// The vertex (1-based, as in the file).
+        vertex: usize,
+        /// The first `vt` index (1-based).
+        first: usize,
+        /// The conflicting `vt` index (1-based).
+        second: usize,
+    },
+    /// A face is degenerate in rest space, or faces have mixed orientation.
+    #[error("{path}:{line}: {message}")]
+    Orientation {
+        /// The file.
+        path: String,
+        /// The line of the offending face.
+        line: usize,
+        /// What is wrong.
+        message: String,
+    },
+    /// The file has no face.
+    #[error("{path}: no face (`f`) statement")]
+    NoFaces {
+        /// The file.
+        path: String,
+    },
+    /// The mesh built from the file breaks a conformity rule.
+    #[error("{path}: {source}")]
+    Mesh {
+        /// The file.
+        path: String,
+        /// The error.
+        source: MeshError,
+    },
 }
 
-/// Loads a cloth from an OBJ file.
+/// Loads a cloth from an OBJ file (format in the module doc). Never panics on malformed input;
+/// every error names the file and, where it applies, the line.
 pub fn load_obj(path: &Path) -> Result<ObjCloth, ObjError> {
-    let _ = path;
-    todo!()
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| ObjError::Io {
+        path: name.clone(),
+        source,
+    })?;
+    parse_obj(&text, &name)
+}
+
+/// A face corner: 0-based (vertex, texture coordinate) indices.
+type Corner = (usize, usize);
+
+/// Parses OBJ text; `path` only names the source in errors.
+pub(crate) fn parse_obj(text: &str, path: &str) -> Result<ObjCloth, ObjError> {
+    let parse_err = |line: usize, message: String| ObjError::Parse {
+        path: path.to_string(),
+        line,
+        message,
+    };
+    let mut positions: Vec<Vec3> = Vec::new();
+    let mut tex: Vec<Vec2> = Vec::new();
+    let mut tris: Vec<(usize, [Corner; 3])> = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let content = raw.split('#').next().unwrap_or("");
+        let mut words = content.split_whitespace();
+        let Some(keyword) = words.next() else {
+            continue;
+        };
+        match keyword {
+            "v" | "vt" => {
+                let need = if keyword == "v" { 3 } else { 2 };
+                let mut xs = Vec::with_capacity(need);
+                for w in words.by_ref().take(need) {
+                    match w.parse::<Real>() {
+                        Ok(x) if x.is_finite() => xs.push(x),
+                        _ => {
+                            return Err(parse_err(
+                                line,
+                                format!("`{keyword}`: expected a finite number, found `{w}`"),
+                            ))
+                        }
+                    }
+                }
+                if xs.len() < need {
+                    return Err(parse_err(
+                        line,
+                        format!("`{keyword}`: expected {need} numbers, found {}", xs.len()),
+                    ));
+                }
+                if keyword == "v" {
+                    positions.push(Vec3::new(xs[0], xs[1], xs[2]));
+                } else {
+                    tex.push(Vec2::new(xs[0], xs[1]));
+                }
+            }
+            "f" => {
+                let mut corners = Vec::new();
+                for w in words {
+                    corners.push(parse_corner(w, positions.len(), tex.len()).map_err(
+                        |e| match e {
+                            CornerError::NoTex => ObjError::NoTexCoords {
+                                path: path.to_string(),
+                                line,
+                            },
+                            CornerError::Bad(m) => {
+                                parse_err(line, format!("`f` corner `{w}`: {m}"))
+                            }
+                        },
+                    )?);
+                }
+                if corners.len() < 3 {
+                    return Err(parse_err(
+                        line,
+                        format!("`f`: expected at least 3 corners, found {}", corners.len()),
+                    ));
+                }
+                for k in 1..corners.len() - 1 {
+                    tris.push((line, [corners[0], corners[k], corners[k + 1]]));
+                }
+            }
+            "vn" | "vp" | "o" | "g" | "s" | "usemtl" | "mtllib" => {}
+            other => {
+                return Err(parse_err(
+                    line,
+                    format!("unsupported statement `{other}` (expected v, vt, f)"),
+                ))
+            }
+        }
+    }
+    if tris.is_empty() {
+        return Err(ObjError::NoFaces {
+            path: path.to_string(),
+        });
+    }
+    // Indices may point forward; check them against the final counts.
+    for &(line, corners) in &tris {
+        for (v, t) in corners {
+            if v >= positions.len() || t >= tex.len() {
+                return Err(parse_err(
+                    line,
+                    format!(
+                        "index out of range: vertex {} of {}, texture coordinate {} of {}",
+                        v + 1,
+                        positions.len(),
+                        t + 1,
+                        tex.len()
+                    ),
+                ));
+            }
+        }
+    }
+    // One rest position per vertex.
+    let mut tex_of: Vec<Option<usize>> = vec![None; positions.len()];
+    for &(line, corners) in &tris {
+        for (v, t) in corners {
+            match tex_of[v] {
+                None => tex_of[v] = Some(t),
+                Some(t0) if t0 == t || tex[t0] == tex[t] => {}
+                Some(t0) => {
+                    return Err(ObjError::Seam {
+                        path: path.to_string(),
+                        line,
+                        vertex: v + 1,
+                        first: t0 + 1,
+                        second: t + 1,
+                    })
+                }
+            }
+        }
+    }
+    // Compact the used vertices in file order.
+    let mut id = vec![usize::MAX; positions.len()];
+    let mut rest = Vec::new();
+    let mut world = Vec::new();
+    for (v, t) in tex_of.iter().enumerate() {
+        if let Some(t) = *t {
+            id[v] = rest.len();
+            rest.push(tex[t]);
+            world.push(positions[v]);
+        }
+    }
+    let mut faces: Vec<[usize; 3]> = tris
+        .iter()
+        .map(|(_, c)| [id[c[0].0], id[c[1].0], id[c[2].0]])
+        .collect();
+    orient(&rest, &mut faces, &tris, path)?;
+    let mesh = Mesh::from_faces(rest, &faces).map_err(|source| ObjError::Mesh {
+        path: path.to_string(),
+        source,
+    })?;
+    Ok(ObjCloth {
+        mesh,
+        positions: world,
+    })
+}
+
+/// Makes every face counter-clockwise in rest space: all clockwise faces are flipped; zero area
+/// or mixed orientation is an error naming the face's line.
+fn orient(
+    rest: &[Vec2],
+    faces: &mut [[usize; 3]],
+    tris: &[(usize, [Corner; 3])],
+    path: &str,
+) -> Result<(), ObjError> {
+    let err = |line: usize, message: String| ObjError::Orientation {
+        path: path.to_string(),
+        line,
+        message,
+    };
+    let mut first_sign = 0.0;
+    for (f, &(line, _)) in faces.iter().zip(tris) {
+        let area = signed_area(rest[f[0]], rest[f[1]], rest[f[2]]);
+        if area == 0.0 || !area.is_finite() {
+            return Err(err(
+                line,
+                format!("face has zero rest (vt) area ({area:e} m²)"),
+            ));
+        }
+        if first_sign == 0.0 {
+            first_sign = area.signum();
+        } else if area.signum() != first_sign {
+            return Err(err(
+                line,
+                format!(
+                    "face is {} in rest (vt) space but the first face is not; faces must be \
+                     consistently oriented",
+                    if area > 0.0 {
+                        "counter-clockwise"
+                    } else {
+                        "clockwise"
+                    }
+                ),
+            ));
+        }
+    }
+    if first_sign < 0.0 {
+        for f in faces.iter_mut() {
+            f.swap(1, 2);
+        }
+    }
+    Ok(())
+}
+
+enum CornerError {
+    NoTex,
+    Bad(String),
+}
+
+/// Parses `a/ta`, `a/ta/na` (or `a`, `a//na`, which lack a texture coordinate) into 0-based
+/// (vertex, texcoord) indices; negative indices count back from the current counts.
+fn parse_corner(w: &str, nv: usize, nt: usize) -> Result<Corner, CornerError> {
+    let parts: Vec<&str> = w.split('/').collect();
+    if parts.len() > 3 {
+        return Err(CornerError::Bad("expected v/vt or v/vt/vn".into()));
+    }
+    let index = |s: &str, count: usize, what: &str| -> Result<usize, CornerError> {
+        let i: i64 = s.parse().map_err(|_| {
+            CornerError::Bad(format!("expected an integer {what} index, found `{s}`"))
+        })?;
+        let resolved = if i > 0 {
+            Some(i as usize - 1)
+        } else if i < 0 {
+            count.checked_sub(i.unsigned_abs() as usize)
+        } else {
+            None
+        };
+        resolved.ok_or_else(|| CornerError::Bad(format!("{what} index {i} is out of range")))
+    };
+    let v = index(parts[0], nv, "vertex")?;
+    match parts.get(1) {
+        None | Some(&"") => Err(CornerError::NoTex),
+        Some(t) => {
+            if let Some(n) = parts.get(2).filter(|n| !n.is_empty()) {
+                index(n, usize::MAX, "normal")?;
+            }
+            Ok((v, index(t, nt, "texture coordinate")?))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::Rule;
+
+    const SQUARE: &str = "# a unit square, two triangles and a quad\n\
+        v 0 0 1\nv 1 0 1\nv 1 1 1\nv 0 1 1\nv 2 0 1\nv 2 1 1\n\
+        vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\nvt 2 0\nvt 2 1\n\
+        vn 0 0 1\ng cloth\ns off\n\
+        f 1/1/1 2/2/1 3/3/1\nf 1/1 3/3 4/4\nf 2/2 5/5 6/6 3/3\n";
+
+    fn write(text: &str) -> (tempfile::TempDir, std::path::PathBuf) {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("cloth.obj");
+        std::fs::write(&path, text).unwrap();
+        (dir, path)
+    }
+
+    #[test]
+    fn loads_a_small_cloth_from_file() {
+        let (_dir, path) = write(SQUARE);
+        let cloth = load_obj(&path).unwrap();
+        assert_eq!(cloth.mesh.vertex_count(), 6);
+        assert_eq!(cloth.mesh.face_count(), 4);
+        assert_eq!(cloth.positions.len(), 6);
+        assert_eq!(cloth.positions[4], Vec3::new(2.0, 0.0, 1.0));
+        assert!((cloth.mesh.pattern_area() - 2.0).abs() < 1e-12);
+        cloth.mesh.check().unwrap();
+    }
+
+    #[test]
+    fn clockwise_file_is_flipped_and_unused_vertices_dropped() {
+        let text = "v 0 0 0\nv 9 9 9\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 4/3 3/2\n";
+        let cloth = parse_obj(text, "cw.obj").unwrap();
+        assert_eq!(cloth.mesh.vertex_count(), 3);
+        assert_eq!(cloth.positions[1], Vec3::new(1.0, 0.0, 0.0));
+        assert!(cloth.mesh.pattern_area() > 0.0);
+        cloth.mesh.check().unwrap();
+    }
+
+    #[test]
+    fn negative_indices() {
+        let text = "v 0 0 0\nvt 0 0\nv 1 0 0\nvt 1 0\nv 0 1 0\nvt 0 1\nf -3/-3 -2/-2 -1/-1\n";
+        assert_eq!(parse_obj(text, "x").unwrap().mesh.face_count(), 1);
+    }
+
+    fn line_of(e: &ObjError) -> usize {
+        match e {
+            ObjError::Parse { line, .. }
+            | ObjError::NoTexCoords { line, .. }
+            | ObjError::Seam { line, .. }
+            | ObjError::Orientation { line, .. } => *line,
+            other => panic!("unexpected error {other}"),
+        }
+    }
+
+    #[test]
+    fn malformed_input_reports_line_numbers() {
+        let base = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\n";
+        let cases = [
+            ("v 1 2\n", 7, "expected 3 numbers"),
+            ("vt 0 x\n", 7, "finite number"),
+            ("f 1/1 2/2\n", 7, "at least 3 corners"),
+            ("f 1/1 2/2 7/3\n", 7, "out of range"),
+            ("f 1/1 2/a 3/3\n", 7, "integer texture coordinate"),
+            ("f 1//1 2//1 3//1\n", 7, "no texture coordinate"),
+            ("\n\nf 1/1 2/2 3/3\nf 1/2 3/3 2/1\n", 10, "seams"),
+            ("curv 1 2\n", 7, "unsupported statement"),
+            ("f 1/1 2/2 3/2\n", 7, "zero rest"),
+        ];
+        for (extra, line, needle) in cases {
+            let e = parse_obj(&format!("{base}{extra}"), "bad.obj").unwrap_err();
+            assert_eq!(line_of(&e), line, "{extra:?}: {e}");
+            assert!(e.to_string().contains(needle), "{extra:?}: {e}");
+            assert!(e.to_string().starts_with("bad.obj:"), "{e}");
+        }
+    }
+
+    #[test]
+    fn mixed_orientation_is_an_error() {
+        let text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n\
+                    f 1/1 2/2 3/3\nf 2/2 3/3 4/4\n";
+        let e = parse_obj(text, "m.obj").unwrap_err();
+        assert!(matches!(e, ObjError::Orientation { line: 10, .. }), "{e}");
+    }
+
+    #[test]
+    fn missing_file_and_non_conforming_mesh() {
+        let e = load_obj(Path::new("/nonexistent/cloth.obj")).unwrap_err();
+        assert!(matches!(e, ObjError::Io { .. }));
+        assert!(matches!(
+            parse_obj("v 0 0 0\n", "e"),
+            Err(ObjError::NoFaces { .. })
+        ));
+        // Two triangles touching at one vertex (a bowtie).
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv -1 0 0\nv -1 -1 0\n\
+                    vt 0 0\nvt 1 0\nvt 1 1\nvt -1 0\nvt -1 -1\n\
+                    f 1/1 2/2 3/3\nf 1/1 4/4 5/5\n";
+        match parse_obj(text, "b.obj") {
+            Err(ObjError::Mesh {
+                source: MeshError::NotConforming(c),
+                ..
+            }) => assert_eq!(c.rule, Rule::NonManifoldVertex),
+            other => panic!("unexpected {other:?}"),
+        }
+    }
 }
