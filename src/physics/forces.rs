@@ -110,6 +110,29 @@ impl ForceModel {
         self.refresh_mass_stats();
     }
 
+    /// A model over explicit particles and springs, without a mesh (tests of single springs).
+    #[cfg(test)]
+    pub(crate) fn from_parts(
+        material: &MaterialSpec,
+        forces: &ForcesSpec,
+        mass: Vec<Real>,
+        pinned: &[bool],
+        springs: Springs,
+    ) -> Self {
+        let mut model = ForceModel::new(material, forces);
+        model.inv_mass = mass
+            .iter()
+            .zip(pinned)
+            .map(|(&m, &p)| if p || m <= 0.0 { 0.0 } else { 1.0 / m })
+            .collect();
+        model.drag = vec![0.0; mass.len()];
+        model.mass = mass;
+        model.springs = springs;
+        model.max_stiffness = model.springs.max_stiffness();
+        model.refresh_mass_stats();
+        model
+    }
+
     fn set_vertex(&mut self, mesh: &Mesh, v: VertexId) {
         let i = v.0 as usize;
         let area = mesh.vertex_rest_area(v);
