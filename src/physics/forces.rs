@@ -371,18 +371,22 @@ pub(crate) fn bend_modes(x1: Vec3, x2: Vec3, x3: Vec3, x4: Vec3) -> Option<BendM
         return None;
     }
     let e_len = e2.sqrt();
-    let (n1_len, n2_len) = (n1_sq.sqrt(), n2_sq.sqrt());
-    let (w1, w2) = (n1 / n1_sq, n2 / n2_sq);
-    let (hat1, hat2) = (n1 / n1_len, n2 / n2_len);
     let inv_e = 1.0 / e_len;
+    let (n1_len, n2_len) = (n1_sq.sqrt(), n2_sq.sqrt());
+    // Reciprocals once; every later division is a multiplication.
+    let (inv1_sq, inv2_sq) = (1.0 / n1_sq, 1.0 / n2_sq);
+    let (w1, w2) = (n1 * inv1_sq, n2 * inv2_sq);
+    let (s1, s2) = (e_len * inv1_sq, e_len * inv2_sq);
     let u = [
-        w1 * e_len,
-        w2 * e_len,
+        n1 * s1,
+        n2 * s2,
         w1 * ((x1 - x4).dot(&e) * inv_e) + w2 * ((x2 - x4).dot(&e) * inv_e),
         -(w1 * ((x1 - x3).dot(&e) * inv_e) + w2 * ((x2 - x3).dot(&e) * inv_e)),
     ];
-    let mut sin_half = 0.5 * (hat1 - hat2).norm();
-    if hat1.cross(&hat2).dot(&e) < 0.0 {
+    // |n1/|n1| - n2/|n2|| / 2 with a single division; exactly 0 for parallel normals along an axis.
+    let mut sin_half = 0.5 * (n1 * n2_len - n2 * n1_len).norm() / (n1_len * n2_len);
+    // (n1 x n2) . e has the sign of (hat1 x hat2) . e: no need to normalise.
+    if n1.cross(&n2).dot(&e) < 0.0 {
         sin_half = -sin_half;
     }
     Some(BendModes {
