@@ -357,7 +357,7 @@ pub(crate) struct BendModes {
 /// `sin(theta/2) = ±sqrt((1 - n1.n2)/2)` is computed as `|n1 - n2| / 2`, the same value for unit
 /// normals but without the cancellation of `1 - n1.n2` near flat (which would turn round-off of
 /// `1e-16` into a spurious `1e-8`); its sign is that of `(n1 x n2) . e`.
-#[inline]
+#[inline(always)]
 pub(crate) fn bend_modes(x1: Vec3, x2: Vec3, x3: Vec3, x4: Vec3) -> Option<BendModes> {
     let e = x4 - x3;
     let e2 = e.norm_squared();
