@@ -1,1 +1,418 @@
-//! Force evaluation over the flat element arrays.
+//! Per-vertex material parameters and force evaluation over the flat element arrays
+//! (MODEL.md §2-§3).
+//!
+//! Each force family is one sweep: springs (elastic and damping fused), bending elements (elastic
+//! and damping fused), then the per-vertex external forces (gravity and drag fused). The switches
+//! are resolved once per call into a monomorphised kernel, so a disabled force is never evaluated
+//! and the inner loops carry no per-element switch test. Evaluation allocates nothing.
+
+use super::elements::{Bends, Springs};
+use super::integrator::Dynamics;
+use crate::math::{Real, Vec3};
+use crate::mesh::{Mesh, VertexId};
+use crate::scene::{ForcesSpec, MaterialSpec, SpringMode};
+
+/// A bending element is skipped (no force) when a triangle's doubled area `|N|` falls below this
+/// fraction of `|e|²`: the triangle is degenerate (a sliver or collapsed) and its normal undefined.
+const DEGENERATE_RATIO: Real = 1e-12;
+
+/// Per-vertex parameters and flat element arrays, plus force evaluation.
+///
+/// Per-vertex arrays are indexed by vertex slot (length `mesh.vertex_slots()`); free slots have
+/// mass 0 and `inv_mass` 0; pinned vertices keep their mass but have `inv_mass` 0. Built empty by
+/// [`ForceModel::new`]; call [`ForceModel::rebuild`] for a mesh before evaluating forces.
+#[derive(Clone, Debug)]
+pub struct ForceModel {
+    material: MaterialSpec,
+    switches: ForcesSpec,
+    g: Vec3,
+    mass: Vec<Real>,
+    inv_mass: Vec<Real>,
+    drag: Vec<Real>,
+    springs: Springs,
+    bends: Bends,
+    total_mass: Real,
+    min_mass: Real,
+    max_stiffness: Real,
+}
+
+impl ForceModel {
+    /// A model for this material and these force switches, empty until [`ForceModel::rebuild`].
+    pub fn new(material: &MaterialSpec, forces: &ForcesSpec) -> Self {
+        ForceModel {
+            material: material.clone(),
+            switches: forces.clone(),
+            g: Vec3::from(forces.g),
+            mass: Vec::new(),
+            inv_mass: Vec::new(),
+            drag: Vec::new(),
+            springs: Springs::default(),
+            bends: Bends::default(),
+            total_mass: 0.0,
+            min_mass: 0.0,
+            max_stiffness: 0.0,
+        }
+    }
+
+    /// The material the model was built for.
+    pub fn material(&self) -> &MaterialSpec {
+        &self.material
+    }
+
+    /// The force switches and gravity the model evaluates.
+    pub fn switches(&self) -> &ForcesSpec {
+        &self.switches
+    }
+
+    /// Rebuilds every vertex parameter and every element for `mesh`, reusing the allocations.
+    pub fn rebuild(&mut self, mesh: &Mesh) {
+        let slots = mesh.vertex_slots();
+        for arr in [&mut self.mass, &mut self.inv_mass, &mut self.drag] {
+            arr.clear();
+            arr.resize(slots, 0.0);
+        }
+        for v in mesh.vertices() {
+            self.set_vertex(mesh, v);
+        }
+        self.refresh_mass_stats();
+        self.rebuild_elements(mesh);
+    }
+
+    /// Rebuilds the springs and bending elements only (after a topology change whose vertex
+    /// parameters were updated with [`ForceModel::update_vertices`]).
+    pub fn rebuild_elements(&mut self, mesh: &Mesh) {
+        self.springs.rebuild(mesh, &self.material);
+        self.bends.rebuild(mesh);
+        self.max_stiffness = self.springs.max_stiffness();
+    }
+
+    /// Recomputes mass, inverse mass and drag coefficient of the listed vertex slots (a slot that
+    /// is no longer live gets zeros). The per-vertex arrays are first resized to
+    /// `mesh.vertex_slots()` (new slots start at zero).
+    pub fn update_vertices(&mut self, mesh: &Mesh, vertices: &[VertexId]) {
+        let slots = mesh.vertex_slots();
+        for arr in [&mut self.mass, &mut self.inv_mass, &mut self.drag] {
+            arr.resize(slots, 0.0);
+        }
+        for &v in vertices {
+            let i = v.0 as usize;
+            if i >= slots {
+                continue;
+            }
+            if mesh.is_vertex(v) {
+                self.set_vertex(mesh, v);
+            } else {
+                self.mass[i] = 0.0;
+                self.inv_mass[i] = 0.0;
+                self.drag[i] = 0.0;
+            }
+        }
+        self.refresh_mass_stats();
+    }
+
+    /// A model over explicit particles and springs, without a mesh (tests of single springs).
+    #[cfg(test)]
+    pub(crate) fn from_parts(
+        material: &MaterialSpec,
+        forces: &ForcesSpec,
+        mass: Vec<Real>,
+        pinned: &[bool],
+        springs: Springs,
+    ) -> Self {
+        let mut model = ForceModel::new(material, forces);
+        model.inv_mass = mass
+            .iter()
+            .zip(pinned)
+            .map(|(&m, &p)| if p || m <= 0.0 { 0.0 } else { 1.0 / m })
+            .collect();
+        model.drag = vec![0.0; mass.len()];
+        model.mass = mass;
+        model.springs = springs;
+        model.max_stiffness = model.springs.max_stiffness();
+        model.refresh_mass_stats();
+        model
+    }
+
+    fn set_vertex(&mut self, mesh: &Mesh, v: VertexId) {
+        let i = v.0 as usize;
+        let area = mesh.vertex_rest_area(v);
+        let m = area * self.material.thickness * self.material.rho;
+        self.mass[i] = m;
+        self.inv_mass[i] = if mesh.is_pinned(v) || m <= 0.0 {
+            0.0
+        } else {
+            1.0 / m
+        };
+        self.drag[i] = area * self.material.kappa;
+    }
+
+    fn refresh_mass_stats(&mut self) {
+        self.total_mass = self.mass.iter().sum();
+        self.min_mass = self
+            .mass
+            .iter()
+            .copied()
+            .filter(|&m| m > 0.0)
+            .fold(Real::INFINITY, Real::min);
+        if !self.min_mass.is_finite() {
+            self.min_mass = 0.0;
+        }
+    }
+
+    /// Mass `m_i = A_i T rho` of every vertex slot (kg).
+    pub fn mass(&self) -> &[Real] {
+        &self.mass
+    }
+
+    /// Inverse mass of every slot (1/kg); 0 for pinned vertices and free slots.
+    pub fn inv_mass(&self) -> &[Real] {
+        &self.inv_mass
+    }
+
+    /// Drag coefficient `C_i = A_i kappa` of every slot (N s/m).
+    pub fn drag(&self) -> &[Real] {
+        &self.drag
+    }
+
+    /// The spring arrays.
+    pub fn springs(&self) -> &Springs {
+        &self.springs
+    }
+
+    /// The bending elements.
+    pub fn bends(&self) -> &Bends {
+        &self.bends
+    }
+
+    /// Sum of all vertex masses, pinned included (kg): `rho T` x the mesh rest area.
+    pub fn total_mass(&self) -> Real {
+        self.total_mass
+    }
+
+    /// Smallest non-zero vertex mass (kg), pinned vertices included; 0 when there is none.
+    pub fn min_mass(&self) -> Real {
+        self.min_mass
+    }
+
+    /// Largest spring stiffness (N/m), whether or not the spring force is switched on; 0 when
+    /// there is no spring.
+    pub fn max_stiffness(&self) -> Real {
+        self.max_stiffness
+    }
+
+    /// The stable explicit step `beta pi sqrt(m_min / k_max)` (s), MODEL.md (4.5-4.6).
+    /// Infinite when there is no spring; 0 when there is no mass.
+    pub fn stable_step(&self, beta: Real) -> Real {
+        if self.max_stiffness <= 0.0 {
+            return Real::INFINITY;
+        }
+        beta * std::f64::consts::PI * (self.min_mass / self.max_stiffness).sqrt()
+    }
+
+    /// Total force (N) on every slot from all switched-on forces, for positions `x` (m) and
+    /// velocities `v` (m/s); `f` is overwritten. Disabled forces are not evaluated. All three
+    /// slices have one entry per vertex slot.
+    pub fn forces(&self, x: &[Vec3], v: &[Vec3], f: &mut [Vec3]) {
+        self.internal_forces(x, v, f);
+        let s = &self.switches;
+        match (s.gravity, s.drag) {
+            (true, true) => self.external::<true, true>(v, f),
+            (true, false) => self.external::<true, false>(v, f),
+            (false, true) => self.external::<false, true>(v, f),
+            (false, false) => {}
+        }
+    }
+
+    /// Only the internal forces (N): springs, spring damping, bending, bending damping, as
+    /// switched on; `f` is overwritten. They sum to zero force and zero torque.
+    pub fn internal_forces(&self, x: &[Vec3], v: &[Vec3], f: &mut [Vec3]) {
+        debug_assert_eq!(x.len(), self.mass.len());
+        debug_assert_eq!(v.len(), self.mass.len());
+        debug_assert_eq!(f.len(), self.mass.len());
+        f.fill(Vec3::zeros());
+        let s = &self.switches;
+        let both = self.material.springs == SpringMode::Both;
+        match (s.springs, s.spring_damping, both) {
+            (true, true, false) => self.spring_forces::<true, true, false>(x, v, f),
+            (true, true, true) => self.spring_forces::<true, true, true>(x, v, f),
+            (true, false, false) => self.spring_forces::<true, false, false>(x, v, f),
+            (true, false, true) => self.spring_forces::<true, false, true>(x, v, f),
+            (false, true, _) => self.spring_forces::<false, true, false>(x, v, f),
+            (false, false, _) => {}
+        }
+        match (s.bending, s.bending_damping) {
+            (true, true) => self.bend_forces::<true, true>(x, v, f),
+            (true, false) => self.bend_forces::<true, false>(x, v, f),
+            (false, true) => self.bend_forces::<false, true>(x, v, f),
+            (false, false) => {}
+        }
+    }
+
+    /// Springs (4.8-4.9): `f_a = [k s / L + kd ((v_b - v_a) . d) / L²] d`, `d = x_b - x_a`,
+    /// `s = L - L_rest` (clamped at 0 unless `BOTH`); `f_b = -f_a`.
+    fn spring_forces<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
+        &self,
+        x: &[Vec3],
+        v: &[Vec3],
+        f: &mut [Vec3],
+    ) {
+        let sp = &self.springs;
+        let n = sp.len();
+        let (a, b, l0, k, kd) = (
+            &sp.a[..n],
+            &sp.b[..n],
+            &sp.rest_length[..n],
+            &sp.k[..n],
+            &sp.kd[..n],
+        );
+        for j in 0..n {
+            let (ia, ib) = (a[j] as usize, b[j] as usize);
+            let d = x[ib] - x[ia];
+            let len2 = d.norm_squared();
+            if len2 <= 0.0 {
+                continue; // coincident ends: no direction, no force
+            }
+            let mut c = 0.0;
+            if ELASTIC {
+                let len = len2.sqrt();
+                let stretch = if BOTH {
+                    len - l0[j]
+                } else {
+                    (len - l0[j]).max(0.0)
+                };
+                c += k[j] * stretch / len;
+            }
+            if DAMP {
+                c += kd[j] * (v[ib] - v[ia]).dot(&d) / len2;
+            }
+            let fa = d * c;
+            f[ia] += fa;
+            f[ib] -= fa;
+        }
+    }
+
+    /// Bridson bending (4.10-4.13) on every interior edge, elastic and damping parts fused.
+    fn bend_forces<const ELASTIC: bool, const DAMP: bool>(
+        &self,
+        x: &[Vec3],
+        v: &[Vec3],
+        f: &mut [Vec3],
+    ) {
+        let kb = self.material.k_b;
+        let kbd = self.material.k_bd;
+        for &[i1, i2, i3, i4] in &self.bends.v {
+            let (i1, i2, i3, i4) = (i1 as usize, i2 as usize, i3 as usize, i4 as usize);
+            let Some(u) = bend_modes(x[i1], x[i2], x[i3], x[i4]) else {
+                continue;
+            };
+            let mut c = 0.0;
+            if ELASTIC {
+                c += kb * u.elastic_scale * u.sin_half;
+            }
+            if DAMP {
+                let uv = u.u[0].dot(&v[i1])
+                    + u.u[1].dot(&v[i2])
+                    + u.u[2].dot(&v[i3])
+                    + u.u[3].dot(&v[i4]);
+                c -= kbd * u.e_len * uv;
+            }
+            f[i1] += u.u[0] * c;
+            f[i2] += u.u[1] * c;
+            f[i3] += u.u[2] * c;
+            f[i4] += u.u[3] * c;
+        }
+    }
+
+    /// Gravity `m g` (4.14) and drag `-C v` (4.15) on every slot.
+    fn external<const GRAVITY: bool, const DRAG: bool>(&self, v: &[Vec3], f: &mut [Vec3]) {
+        let n = f.len();
+        let (m, c, v) = (&self.mass[..n], &self.drag[..n], &v[..n]);
+        for i in 0..n {
+            if GRAVITY {
+                f[i] += self.g * m[i];
+            }
+            if DRAG {
+                f[i] -= v[i] * c[i];
+            }
+        }
+    }
+}
+
+/// The Bridson bending modes of one element and the scalars the forces need.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BendModes {
+    /// `u1..u4` (m⁻¹ up to the `|e|` factors of (4.11)).
+    pub u: [Vec3; 4],
+    /// `|e|` (m).
+    pub e_len: Real,
+    /// `|e|² / (|N1| + |N2|)` (dimensionless).
+    pub elastic_scale: Real,
+    /// Signed `sin(theta/2)`.
+    pub sin_half: Real,
+}
+
+/// Modes (4.11) of the element with opposite vertices `x1`, `x2` and shared edge `x3 -> x4`;
+/// `None` when the edge or a triangle is degenerate.
+///
+/// `sin(theta/2) = ±sqrt((1 - n1.n2)/2)` is computed as `|n1 - n2| / 2`, the same value for unit
+/// normals but without the cancellation of `1 - n1.n2` near flat (which would turn round-off of
+/// `1e-16` into a spurious `1e-8`); its sign is that of `(n1 x n2) . e`.
+#[inline(always)]
+pub(crate) fn bend_modes(x1: Vec3, x2: Vec3, x3: Vec3, x4: Vec3) -> Option<BendModes> {
+    let e = x4 - x3;
+    let e2 = e.norm_squared();
+    let n1 = (x1 - x3).cross(&(x1 - x4));
+    let n2 = (x2 - x4).cross(&(x2 - x3));
+    let n1_sq = n1.norm_squared();
+    let n2_sq = n2.norm_squared();
+    let tiny = DEGENERATE_RATIO * DEGENERATE_RATIO * e2 * e2;
+    // `!(a > b)` also rejects NaN inputs.
+    if !(e2 > 0.0 && n1_sq > tiny && n2_sq > tiny) {
+        return None;
+    }
+    let e_len = e2.sqrt();
+    let inv_e = 1.0 / e_len;
+    let (n1_len, n2_len) = (n1_sq.sqrt(), n2_sq.sqrt());
+    // Reciprocals once; every later division is a multiplication.
+    let (inv1_sq, inv2_sq) = (1.0 / n1_sq, 1.0 / n2_sq);
+    let (w1, w2) = (n1 * inv1_sq, n2 * inv2_sq);
+    let (s1, s2) = (e_len * inv1_sq, e_len * inv2_sq);
+    let u = [
+        n1 * s1,
+        n2 * s2,
+        w1 * ((x1 - x4).dot(&e) * inv_e) + w2 * ((x2 - x4).dot(&e) * inv_e),
+        -(w1 * ((x1 - x3).dot(&e) * inv_e) + w2 * ((x2 - x3).dot(&e) * inv_e)),
+    ];
+    // |n1/|n1| - n2/|n2|| / 2 with a single division; exactly 0 for parallel normals along an axis.
+    let mut sin_half = 0.5 * (n1 * n2_len - n2 * n1_len).norm() / (n1_len * n2_len);
+    // (n1 x n2) . e has the sign of (hat1 x hat2) . e: no need to normalise.
+    if n1.cross(&n2).dot(&e) < 0.0 {
+        sin_half = -sin_half;
+    }
+    Some(BendModes {
+        u,
+        e_len,
+        elastic_scale: e2 / (n1_len + n2_len),
+        sin_half,
+    })
+}
+
+impl Dynamics for ForceModel {
+    /// `a_i = f_i / m_i` (m/s²) from [`ForceModel::forces`]; 0 where `inv_mass` is 0. The model
+    /// is time-independent, so `t` is unused.
+    fn accelerations(&self, _t: Real, x: &[Vec3], v: &[Vec3], a: &mut [Vec3]) {
+        self.forces(x, v, a);
+        for (ai, &w) in a.iter_mut().zip(&self.inv_mass) {
+            *ai = if w == 0.0 { Vec3::zeros() } else { *ai * w };
+        }
+    }
+
+    /// Zeroes the velocity of every pinned vertex and free slot.
+    fn constrain_velocities(&self, v: &mut [Vec3]) {
+        for (vi, &w) in v.iter_mut().zip(&self.inv_mass) {
+            if w == 0.0 {
+                *vi = Vec3::zeros();
+            }
+        }
+    }
+}
