@@ -19,6 +19,7 @@
 //! "no penetration beyond the collision margin" reads `max_penetration <= margin`.
 
 mod error;
+mod grid;
 mod obj;
 mod shape;
 #[cfg(test)]
@@ -35,6 +36,10 @@ use std::path::Path;
 /// How many push-out sweeps over the obstacles a point gets (a point wedged between two
 /// obstacles may be pushed back and forth; after this many sweeps the last position stands).
 const PUSH_OUT_SWEEPS: usize = 4;
+
+/// Slack (m) below the margin before a point counts as too close: a point just pushed to the
+/// margin sits there up to rounding and must not be pushed again.
+const MARGIN_SLACK: Real = 1e-9;
 
 /// All static obstacles of a scene, the collision margin and the default restitution.
 pub struct Obstacles {
@@ -120,7 +125,7 @@ impl Obstacles {
         let obstacles = specs
             .iter()
             .enumerate()
-            .map(|(index, spec)| Obstacle::build(index, spec, base_dir))
+            .map(|(index, spec)| Obstacle::build(index, spec, base_dir, 2.0 * collision.margin))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Obstacles {
             obstacles,
@@ -160,7 +165,7 @@ impl Obstacles {
     /// `x_start[i] -> x[i]` (m) is tested against every obstacle whose AABB, grown by the margin,
     /// meets the path's AABB. On the first surface crossing, with outward normal `n`, the velocity
     /// `v[i]` (m/s) gets the response (4.16)-(4.18), restitution `gamma` (the obstacle's own if
-    /// > 0, else the default) and friction `mu = (cloth_mu + obstacle friction) / 2`, and
+    /// positive, else the default) and friction `mu = (cloth_mu + obstacle friction) / 2`, and
     /// `x[i] = x_start[i] + v' dt` (`dt` in s). Then, against every obstacle, a vertex inside or
     /// closer than the margin loses its inward normal velocity (with the same friction law,
     /// `dv_N` being the removed normal speed) and is moved along the projection direction to the
@@ -202,9 +207,11 @@ impl Obstacles {
             let mut contact = false;
 
             // Swept test: the earliest surface crossing of the path.
+            // A path shorter than the distance from its end to a surface cannot cross it.
+            let length = (p1 - p0).length();
             let mut first: Option<(Real, Vector, usize)> = None;
             for (k, ob) in self.obstacles.iter().enumerate() {
-                if !ob.overlaps(lo, hi, margin) {
+                if !ob.overlaps(lo, hi, margin) || ob.surely_clear(p1, length) {
                     continue;
                 }
                 if let Some((t, n)) = ob.cast_entry(p0, p1 - p0) {
@@ -229,8 +236,7 @@ impl Obstacles {
                     if !ob.overlaps(p, p, margin) {
                         continue;
                     }
-                    let proj = ob.project(p);
-                    if proj.distance < margin {
+                    if let Some(proj) = ob.project_near(p, margin - MARGIN_SLACK) {
                         let mu = 0.5 * (cloth_mu + ob.friction);
                         vel = collide_velocity(vel, proj.normal, 0.0, mu);
                         p = proj.point + proj.normal * margin;
@@ -259,8 +265,7 @@ impl Obstacles {
     fn penetration_glam(&self, p: Vector) -> Real {
         self.obstacles
             .iter()
-            .filter(|ob| ob.overlaps(p, p, 0.0))
-            .map(|ob| (-ob.project(p).distance).max(0.0))
+            .map(|ob| ob.depth(p))
             .fold(0.0, Real::max)
     }
 
@@ -282,8 +287,7 @@ impl Obstacles {
                 if !ob.overlaps(q, q, margin) {
                     continue;
                 }
-                let proj = ob.project(q);
-                if proj.distance < margin {
+                if let Some(proj) = ob.project_near(q, margin - MARGIN_SLACK) {
                     q = proj.point + proj.normal * margin;
                     moved = true;
                 }
@@ -306,8 +310,7 @@ impl Obstacles {
             if !ob.overlaps(lo, hi, 0.0) {
                 continue;
             }
-            let start = ob.project(a);
-            let hit = if start.distance <= 0.0 {
+            let hit = if let Some(start) = ob.project_near(a, Real::MIN_POSITIVE) {
                 Some((0.0, a, start.normal))
             } else {
                 ob.cast_entry(a, b - a)
