@@ -567,3 +567,17 @@ fn respond_timing_against_bunny() {
         );
     }
 }
+
+#[test]
+fn edge_hit_on_bunny_enters_from_above() {
+    let obs = bunny();
+    let c = mesh_centroid(&obs);
+    let top = Vec3::new(c.x, c.y, 0.8);
+    let hit = obs.edge_hit(top, c).expect("enters the bunny");
+    assert!(hit.point.z < top.z && hit.point.z > c.z, "{hit:?}");
+    assert!(hit.normal.z > 0.0, "{hit:?}");
+    assert!(obs.penetration(hit.point) < 1e-9);
+    // Starting inside: the hit is the start itself.
+    let inside = obs.edge_hit(c, top).expect("starts inside");
+    assert_eq!(inside.point, c);
+}
