@@ -1,1 +1,354 @@
 //! Static obstacles and collision response through parry3d (the only module that imports it).
+//!
+//! Where it sits in the step (MODEL.md §5): after each integration step the simulator calls
+//! [`Obstacles::respond`], which tests every free vertex's path `x_start -> x` against the
+//! obstacles, applies the restitution and friction response (4.16)-(4.18) and keeps every vertex
+//! at least the collision margin off every surface. The adaptivity stage uses
+//! [`Obstacles::edge_hit`] (edge criterion), [`Obstacles::push_out`] (new vertices) and
+//! [`Obstacles::closest_surface`].
+//!
+//! Obstacles: ground (parry `HalfSpace`, normal +z), sphere (`Ball`), vertical cylinder
+//! (`Cylinder` turned so its axis is z), axis-aligned box (`Cuboid`) and closed triangle meshes
+//! (`TriMesh` with `ORIENTED | MERGE_DUPLICATE_VERTICES`, read from OBJ files). Each obstacle keeps
+//! its world AABB as a broad phase, so vertices far from an obstacle cost a few comparisons.
+//!
+//! Files: `shape` (one obstacle and its parry queries, nalgebra <-> glam conversions), `obj` (OBJ
+//! reader), `error` ([`CollisionError`]).
+//!
+//! Depths and distances are measured from the raw surface (margin not included): the promise
+//! "no penetration beyond the collision margin" reads `max_penetration <= margin`.
+
+mod error;
+mod grid;
+mod obj;
+mod shape;
+#[cfg(test)]
+mod tests;
+
+pub use error::CollisionError;
+
+use crate::math::{Real, Vec3};
+use crate::scene::{CollisionSpec, ObstacleSpec};
+use parry3d_f64::math::Vector;
+use shape::{to_glam, to_na, Obstacle};
+use std::path::Path;
+
+/// How many push-out sweeps over the obstacles a point gets (a point wedged between two
+/// obstacles may be pushed back and forth; after this many sweeps the last position stands).
+const PUSH_OUT_SWEEPS: usize = 4;
+
+/// Slack (m) below the margin before a point counts as too close: a point just pushed to the
+/// margin sits there up to rounding and must not be pushed again.
+const MARGIN_SLACK: Real = 1e-9;
+
+/// All static obstacles of a scene, the collision margin and the default restitution.
+pub struct Obstacles {
+    obstacles: Vec<Obstacle>,
+    margin: Real,
+    restitution: Real,
+}
+
+/// What one collision pass did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ContactStats {
+    /// Number of vertices that touched an obstacle (crossed a surface or ended within the margin).
+    pub contacts: usize,
+    /// Largest depth of a vertex inside a raw obstacle surface after the response (m); 0 when
+    /// every vertex is outside.
+    pub max_penetration: Real,
+}
+
+/// Where a segment first meets an obstacle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EdgeHit {
+    /// Index of the obstacle in the scene's list.
+    pub obstacle: usize,
+    /// First point of the segment on or inside the obstacle (m).
+    pub point: Vec3,
+    /// Outward unit normal of the obstacle there.
+    pub normal: Vec3,
+}
+
+/// The closest obstacle surface point to a query point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SurfacePoint {
+    /// Index of the obstacle in the scene's list.
+    pub obstacle: usize,
+    /// Closest point on that obstacle's surface (m).
+    pub point: Vec3,
+    /// Outward unit normal there.
+    pub normal: Vec3,
+    /// Signed distance from the surface to the query point (m), negative inside.
+    pub distance: Real,
+}
+
+/// Friction on the tangential velocity (4.17): `v_T' = max(1 - mu dv_N / |v_T|, 0) v_T`.
+#[inline]
+fn apply_friction(v_t: Vector, mu: Real, dv_n: Real) -> Vector {
+    let speed = v_t.length();
+    if speed <= 0.0 {
+        return v_t;
+    }
+    v_t * (1.0 - mu * dv_n / speed).max(0.0)
+}
+
+/// Response (4.16)-(4.18) of velocity `v` (m/s) on a surface of outward unit normal `n` with
+/// restitution `gamma` and friction `mu`. Only an inward normal velocity is reflected.
+#[inline]
+fn collide_velocity(v: Vector, n: Vector, gamma: Real, mu: Real) -> Vector {
+    let v_n = v.dot(n);
+    if v_n >= 0.0 {
+        return v;
+    }
+    let v_t = v - n * v_n;
+    // v_R = v - (1 + gamma) v_N, so v_R . n = -gamma v_n and dv_N = (v_R - v) . n.
+    let dv_n = -(1.0 + gamma) * v_n;
+    n * (-gamma * v_n) + apply_friction(v_t, mu, dv_n)
+}
+
+impl Obstacles {
+    /// Builds the obstacles; mesh files are resolved relative to `base_dir`.
+    ///
+    /// Errors: a non-positive or non-finite radius, height, half extent or scale, a non-finite
+    /// position, a negative margin, or a mesh file that is missing, unreadable, malformed or
+    /// has no faces.
+    pub fn build(
+        specs: &[ObstacleSpec],
+        collision: &CollisionSpec,
+        base_dir: &Path,
+    ) -> Result<Obstacles, CollisionError> {
+        if !(collision.margin.is_finite() && collision.margin >= 0.0) {
+            return Err(CollisionError::BadParameter {
+                message: format!("margin must be >= 0, got {}", collision.margin),
+            });
+        }
+        let obstacles = specs
+            .iter()
+            .enumerate()
+            .map(|(index, spec)| Obstacle::build(index, spec, base_dir, 2.0 * collision.margin))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Obstacles {
+            obstacles,
+            margin: collision.margin,
+            restitution: collision.restitution,
+        })
+    }
+
+    /// Whether there is no obstacle at all.
+    pub fn is_empty(&self) -> bool {
+        self.obstacles.is_empty()
+    }
+
+    /// Number of obstacles.
+    pub fn len(&self) -> usize {
+        self.obstacles.len()
+    }
+
+    /// Collision margin (m): vertices are kept this far off every surface.
+    pub fn margin(&self) -> Real {
+        self.margin
+    }
+
+    /// Restitution of obstacle `ob`: its own if positive, else the default.
+    #[inline]
+    fn gamma(&self, ob: &Obstacle) -> Real {
+        if ob.restitution > 0.0 {
+            ob.restitution
+        } else {
+            self.restitution
+        }
+    }
+
+    /// Collision pass after an integration step (MODEL.md §5).
+    ///
+    /// For each vertex `i` with `inv_mass[i] > 0` (others are never touched): the path
+    /// `x_start[i] -> x[i]` (m) is tested against every obstacle whose AABB, grown by the margin,
+    /// meets the path's AABB. On the first surface crossing, with outward normal `n`, the velocity
+    /// `v[i]` (m/s) gets the response (4.16)-(4.18), restitution `gamma` (the obstacle's own if
+    /// positive, else the default) and friction `mu = (cloth_mu + obstacle friction) / 2`, and
+    /// `x[i] = x_start[i] + v' dt` (`dt` in s). Then, against every obstacle, a vertex inside or
+    /// closer than the margin loses its inward normal velocity (with the same friction law,
+    /// `dv_N` being the removed normal speed) and is moved along the projection direction to the
+    /// margin. Vertices that did neither are left unchanged.
+    ///
+    /// Returns the number of vertices with a contact and the largest depth (m) of a vertex inside
+    /// a raw obstacle surface afterwards (non-zero only when obstacles fight over a vertex).
+    /// Allocation-free.
+    pub fn respond(
+        &self,
+        x_start: &[Vec3],
+        x: &mut [Vec3],
+        v: &mut [Vec3],
+        inv_mass: &[Real],
+        cloth_mu: Real,
+        dt: Real,
+    ) -> ContactStats {
+        debug_assert_eq!(x_start.len(), x.len());
+        debug_assert_eq!(v.len(), x.len());
+        debug_assert_eq!(inv_mass.len(), x.len());
+        let mut stats = ContactStats::default();
+        if self.obstacles.is_empty() {
+            return stats;
+        }
+        let margin = self.margin;
+        for i in 0..x.len() {
+            if inv_mass[i] <= 0.0 {
+                continue;
+            }
+            let p0 = to_glam(x_start[i]);
+            let p1 = to_glam(x[i]);
+            let lo = p0.min(p1);
+            let hi = p0.max(p1);
+            if !self.obstacles.iter().any(|ob| ob.overlaps(lo, hi, margin)) {
+                continue;
+            }
+            let mut vel = to_glam(v[i]);
+            let mut p = p1;
+            let mut contact = false;
+
+            // Swept test: the earliest surface crossing of the path.
+            // A path shorter than the distance from its end to a surface cannot cross it.
+            let length = (p1 - p0).length();
+            let mut first: Option<(Real, Vector, usize)> = None;
+            for (k, ob) in self.obstacles.iter().enumerate() {
+                if !ob.overlaps(lo, hi, margin) || ob.surely_clear(p1, length) {
+                    continue;
+                }
+                if let Some((t, n)) = ob.cast_entry(p0, p1 - p0) {
+                    if first.is_none_or(|(best, _, _)| t < best) {
+                        first = Some((t, n, k));
+                    }
+                }
+            }
+            if let Some((_, n, k)) = first {
+                let ob = &self.obstacles[k];
+                let mu = 0.5 * (cloth_mu + ob.friction);
+                vel = collide_velocity(vel, n, self.gamma(ob), mu);
+                p = p0 + vel * dt;
+                contact = true;
+            }
+
+            // Margin: push out of every obstacle, removing the inward normal velocity.
+            let mut settled = false;
+            for _ in 0..PUSH_OUT_SWEEPS {
+                let mut moved = false;
+                for ob in &self.obstacles {
+                    if !ob.overlaps(p, p, margin) {
+                        continue;
+                    }
+                    if let Some(proj) = ob.project_near(p, margin - MARGIN_SLACK) {
+                        let mu = 0.5 * (cloth_mu + ob.friction);
+                        vel = collide_velocity(vel, proj.normal, 0.0, mu);
+                        p = proj.point + proj.normal * margin;
+                        moved = true;
+                    }
+                }
+                contact |= moved;
+                if !moved {
+                    settled = true;
+                    break;
+                }
+            }
+            if !contact {
+                continue;
+            }
+            stats.contacts += 1;
+            if !settled {
+                stats.max_penetration = stats.max_penetration.max(self.penetration_glam(p));
+            }
+            x[i] = to_na(p);
+            v[i] = to_na(vel);
+        }
+        stats
+    }
+
+    fn penetration_glam(&self, p: Vector) -> Real {
+        self.obstacles
+            .iter()
+            .map(|ob| ob.depth(p))
+            .fold(0.0, Real::max)
+    }
+
+    /// Depth (m) of `p` inside the raw obstacle surface (margin not included), 0 when outside;
+    /// the maximum over obstacles.
+    pub fn penetration(&self, p: Vec3) -> Real {
+        self.penetration_glam(to_glam(p))
+    }
+
+    /// Moves a point (m) found inside an obstacle or within the margin of its surface out to the
+    /// margin, along the projection direction; returns the new point (unchanged if clear). For
+    /// vertices created by adaptation.
+    pub fn push_out(&self, p: Vec3) -> Vec3 {
+        let margin = self.margin;
+        let mut q = to_glam(p);
+        for _ in 0..PUSH_OUT_SWEEPS {
+            let mut moved = false;
+            for ob in &self.obstacles {
+                if !ob.overlaps(q, q, margin) {
+                    continue;
+                }
+                if let Some(proj) = ob.project_near(q, margin - MARGIN_SLACK) {
+                    q = proj.point + proj.normal * margin;
+                    moved = true;
+                }
+            }
+            if !moved {
+                break;
+            }
+        }
+        to_na(q)
+    }
+
+    /// Edge query for the adaptivity criteria: does the segment `a -> b` (m) enter an obstacle or
+    /// lie inside it? Returns the first such point along `a -> b` (`a` itself when `a` is inside)
+    /// with the obstacle's outward unit normal there; ties go to the lower obstacle index.
+    pub fn edge_hit(&self, a: Vec3, b: Vec3) -> Option<EdgeHit> {
+        let (a, b) = (to_glam(a), to_glam(b));
+        let (lo, hi) = (a.min(b), a.max(b));
+        let mut best: Option<(Real, EdgeHit)> = None;
+        for (k, ob) in self.obstacles.iter().enumerate() {
+            if !ob.overlaps(lo, hi, 0.0) {
+                continue;
+            }
+            let hit = if let Some(start) = ob.project_near(a, Real::MIN_POSITIVE) {
+                Some((0.0, a, start.normal))
+            } else {
+                ob.cast_entry(a, b - a)
+                    .map(|(t, n)| (t, a + (b - a) * t, n))
+            };
+            if let Some((t, point, normal)) = hit {
+                if best.as_ref().is_none_or(|(bt, _)| t < *bt) {
+                    best = Some((
+                        t,
+                        EdgeHit {
+                            obstacle: k,
+                            point: to_na(point),
+                            normal: to_na(normal),
+                        },
+                    ));
+                }
+            }
+        }
+        best.map(|(_, hit)| hit)
+    }
+
+    /// The obstacle surface point closest to `p` (m), with the outward normal and the signed
+    /// distance; among several obstacles, the one with the smallest signed distance (so a point
+    /// inside an obstacle reports that obstacle). `None` only when there is no obstacle.
+    pub fn closest_surface(&self, p: Vec3) -> Option<SurfacePoint> {
+        let q = to_glam(p);
+        let mut best: Option<SurfacePoint> = None;
+        for (k, ob) in self.obstacles.iter().enumerate() {
+            let proj = ob.project(q);
+            if best.is_none_or(|b| proj.distance < b.distance) {
+                best = Some(SurfacePoint {
+                    obstacle: k,
+                    point: to_na(proj.point),
+                    normal: to_na(proj.normal),
+                    distance: proj.distance,
+                });
+            }
+        }
+        best
+    }
+}
