@@ -72,7 +72,9 @@ impl Cloth {
     /// World position (m) of a located material point.
     pub fn world_position(&self, at: &Barycentric) -> Vec3 {
         let vs = self.mesh.face(at.face);
-        (0..3).map(|k| self.x[vs[k].0 as usize] * at.weights[k]).sum()
+        (0..3)
+            .map(|k| self.x[vs[k].0 as usize] * at.weights[k])
+            .sum()
     }
 
     /// Total linear momentum (kg m/s).

@@ -13,7 +13,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 #[derive(Parser)]
-#[command(name = "adaptcloth", version, about = "Cloth simulation on an adaptive triangle mesh")]
+#[command(
+    name = "adaptcloth",
+    version,
+    about = "Cloth simulation on an adaptive triangle mesh"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,

@@ -16,7 +16,9 @@ pub enum StrategyError {
     #[error("unknown strategy `{0}`; valid strategies: {list}", list = STRATEGIES.join(", "))]
     Unknown(String),
     /// The strategy is specified but not implemented in this build.
-    #[error("strategy `{0}` is not built yet in this version of adaptcloth; built strategies: static")]
+    #[error(
+        "strategy `{0}` is not built yet in this version of adaptcloth; built strategies: static"
+    )]
     NotBuilt(String),
 }
 

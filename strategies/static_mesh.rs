@@ -13,7 +13,11 @@ impl Adaptivity for StaticMesh {
         "static"
     }
 
-    fn adapt(&mut self, _cloth: &mut Cloth, _ctx: &AdaptContext) -> Result<AdaptReport, AdaptError> {
+    fn adapt(
+        &mut self,
+        _cloth: &mut Cloth,
+        _ctx: &AdaptContext,
+    ) -> Result<AdaptReport, AdaptError> {
         Ok(AdaptReport::default())
     }
 }

@@ -92,7 +92,10 @@ fn interpolate(cloth: &Cloth, origin: Origin) -> (Vec3, Vec3) {
     match origin {
         Origin::Midpoint(a, b) => {
             let (a, b) = (a.0 as usize, b.0 as usize);
-            ((cloth.x[a] + cloth.x[b]) * 0.5, (cloth.v[a] + cloth.v[b]) * 0.5)
+            (
+                (cloth.x[a] + cloth.x[b]) * 0.5,
+                (cloth.v[a] + cloth.v[b]) * 0.5,
+            )
         }
         Origin::InTriangle { corners, weights } => {
             let mut x = Vec3::zeros();

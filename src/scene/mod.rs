@@ -187,9 +187,8 @@ fn apply_override(table: &mut toml::Table, arg: &str) -> Result<(), SceneError> 
         key: key.to_string(),
         valid: valid.join(", "),
     };
-    let mut node: &mut toml::Value = table
-        .get_mut(parts[0])
-        .ok_or_else(|| unknown(table.keys().cloned().collect()))?;
+    let top_keys: Vec<String> = table.keys().cloned().collect();
+    let mut node: &mut toml::Value = table.get_mut(parts[0]).ok_or_else(|| unknown(top_keys))?;
     for part in &parts[1..] {
         node = match node {
             toml::Value::Table(t) => {
@@ -198,7 +197,9 @@ fn apply_override(table: &mut toml::Table, arg: &str) -> Result<(), SceneError> 
             }
             toml::Value::Array(a) => {
                 let len = a.len();
-                let index: usize = part.parse().map_err(|_| unknown(vec![format!("0..{len}")]))?;
+                let index: usize = part
+                    .parse()
+                    .map_err(|_| unknown(vec![format!("0..{len}")]))?;
                 a.get_mut(index)
                     .ok_or_else(|| unknown(vec![format!("0..{len}")]))?
             }

@@ -100,8 +100,16 @@ fn out_of_range_values_are_rejected_with_key_line_and_expectation() {
         ("[material]\nrho = -1.0\n", "material.rho", ":2"),
         ("[time]\ndt = 0.0\n", "time.dt", ":2"),
         ("[time]\nduration = -2\n", "time.duration", ":2"),
-        ("[collision]\nrestitution = 1.5\n", "collision.restitution", ":2"),
-        ("[collision]\nrestitution = 0.0\n", "collision.restitution", ":2"),
+        (
+            "[collision]\nrestitution = 1.5\n",
+            "collision.restitution",
+            ":2",
+        ),
+        (
+            "[collision]\nrestitution = 0.0\n",
+            "collision.restitution",
+            ":2",
+        ),
         ("[cloth]\nresolution = 1\n", "cloth.resolution", ":2"),
         (
             "[[obstacles]]\nkind = \"sphere\"\ncenter = [0,0,0]\nradius = -1\n",

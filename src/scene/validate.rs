@@ -104,7 +104,11 @@ pub(super) fn validate(
         }
         ClothShape::Obj => {
             if cloth.mesh.is_empty() {
-                return Err(c.fail("cloth.mesh", "\"\"", "expected an OBJ file for shape = \"obj\""));
+                return Err(c.fail(
+                    "cloth.mesh",
+                    "\"\"",
+                    "expected an OBJ file for shape = \"obj\"",
+                ));
             }
             let path = base_dir.join(&cloth.mesh);
             if !path.is_file() {
@@ -118,7 +122,11 @@ pub(super) fn validate(
     }
     for (i, p) in cloth.pinned.iter().enumerate() {
         if !p.iter().all(|x| x.is_finite()) {
-            return Err(c.fail(&format!("cloth.pinned[{i}]"), format!("{p:?}"), "expected finite [u, v]"));
+            return Err(c.fail(
+                &format!("cloth.pinned[{i}]"),
+                format!("{p:?}"),
+                "expected finite [u, v]",
+            ));
         }
     }
 
@@ -203,7 +211,10 @@ pub(super) fn validate(
                     return Err(c.fail(
                         &key("file"),
                         file,
-                        &format!("expected an existing OBJ file ({} not found)", path.display()),
+                        &format!(
+                            "expected an existing OBJ file ({} not found)",
+                            path.display()
+                        ),
                     ));
                 }
             }
@@ -213,9 +224,16 @@ pub(super) fn validate(
     let a = &scene.adaptivity;
     c.one_of("adaptivity.strategy", &a.strategy, STRATEGIES)?;
     c.open_unit("adaptivity.compression_c", a.compression_c)?;
-    for (k, v) in [("cos_refine", a.cos_refine), ("cos_simplify", a.cos_simplify)] {
+    for (k, v) in [
+        ("cos_refine", a.cos_refine),
+        ("cos_simplify", a.cos_simplify),
+    ] {
         if !(-1.0..=1.0).contains(&v) {
-            return Err(c.fail(&format!("adaptivity.{k}"), v, "expected a cosine in [-1, 1]"));
+            return Err(c.fail(
+                &format!("adaptivity.{k}"),
+                v,
+                "expected a cosine in [-1, 1]",
+            ));
         }
     }
     c.positive("adaptivity.l_min", a.l_min)?;

@@ -34,9 +34,15 @@ fn bad_input_exits_2_with_a_clear_message() {
         (vec!["run", "--integrator", "leapfrog"], "symplectic_euler"),
         (vec!["run", "--set", "cloth.nokey=1"], "cloth.nokey"),
         (vec!["run", "--set", "time.dt=0"], "time.dt"),
-        (vec!["run", "--set", "cloth.resolution=1"], "cloth.resolution"),
+        (
+            vec!["run", "--set", "cloth.resolution=1"],
+            "cloth.resolution",
+        ),
         (vec!["run", "--duration=-1"], "time.duration"),
-        (vec!["run", "--strategy", "remesh", "--out", out], "not built yet"),
+        (
+            vec!["run", "--strategy", "remesh", "--out", out],
+            "not built yet",
+        ),
     ];
     for (args, needle) in cases {
         let (code, err) = adaptcloth(&args);

@@ -38,7 +38,10 @@ fn total_mass_is_rho_t_area() {
         let sim = Simulation::new(&loaded).unwrap();
         let expected = 8000.0 * 1e-4 * 1.5 * 0.8;
         let m = sim.cloth.model.total_mass();
-        assert!((m - expected).abs() < 1e-12 * expected, "{res}: {m} vs {expected}");
+        assert!(
+            (m - expected).abs() < 1e-12 * expected,
+            "{res}: {m} vs {expected}"
+        );
     }
 }
 
@@ -53,13 +56,21 @@ fn cloth_dropped_on_the_ground_settles_above_it_within_the_margin() {
     let dir = tempfile::tempdir().unwrap();
     let (sim, summary) = run_into(&loaded, dir.path());
     assert_eq!(summary.status, RunStatus::Completed, "{}", summary.message);
-    assert!(summary.max_penetration <= 0.003, "{}", summary.max_penetration);
+    assert!(
+        summary.max_penetration <= 0.003,
+        "{}",
+        summary.max_penetration
+    );
     for v in sim.cloth.mesh.vertices() {
         let z = sim.cloth.x[v.0 as usize].z;
         assert!(z >= -1e-9, "vertex {v:?} at z = {z}");
         assert!(z <= 0.003 + 1e-6, "vertex {v:?} not resting: z = {z}");
     }
-    assert!(sim.cloth.kinetic_energy() < 1e-6, "{}", sim.cloth.kinetic_energy());
+    assert!(
+        sim.cloth.kinetic_energy() < 1e-6,
+        "{}",
+        sim.cloth.kinetic_energy()
+    );
 }
 
 /// With damping on and no obstacle, a pinned cloth's mechanical energy can only fall once the
@@ -72,11 +83,20 @@ fn pinned_hanging_cloth_swings_without_diverging() {
     let (sim, summary) = run_into(&loaded, dir.path());
     assert_eq!(summary.status, RunStatus::Completed, "{}", summary.message);
     // The pinned corners never moved.
-    for v in sim.cloth.mesh.vertices().filter(|&v| sim.cloth.mesh.is_pinned(v)) {
+    for v in sim
+        .cloth
+        .mesh
+        .vertices()
+        .filter(|&v| sim.cloth.mesh.is_pinned(v))
+    {
         assert_eq!(sim.cloth.v[v.0 as usize], Vec3::zeros());
     }
     assert_eq!(
-        sim.cloth.mesh.vertices().filter(|&v| sim.cloth.mesh.is_pinned(v)).count(),
+        sim.cloth
+            .mesh
+            .vertices()
+            .filter(|&v| sim.cloth.mesh.is_pinned(v))
+            .count(),
         2
     );
 }

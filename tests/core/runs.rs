@@ -111,7 +111,11 @@ fn runs_are_deterministic() {
     let (a, b) = (tempfile::tempdir().unwrap(), tempfile::tempdir().unwrap());
     run_into(&loaded, a.path());
     run_into(&loaded, b.path());
-    for f in ["metrics.csv", "frames/frame_00000.obj", "frames/frame_00003.obj"] {
+    for f in [
+        "metrics.csv",
+        "frames/frame_00000.obj",
+        "frames/frame_00003.obj",
+    ] {
         let (x, y) = (
             std::fs::read(a.path().join(f)).unwrap(),
             std::fs::read(b.path().join(f)).unwrap(),

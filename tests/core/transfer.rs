@@ -8,7 +8,10 @@ use adaptcloth::sim::Simulation;
 /// Splits the interior edge (a, b) at its midpoint through the transfer service.
 fn split_edit(sim: &Simulation, a: usize, b: usize) -> Edit {
     let mesh = &sim.cloth.mesh;
-    let (a, b) = (adaptcloth::mesh::VertexId(a as u32), adaptcloth::mesh::VertexId(b as u32));
+    let (a, b) = (
+        adaptcloth::mesh::VertexId(a as u32),
+        adaptcloth::mesh::VertexId(b as u32),
+    );
     let e = mesh.edge(a, b).expect("edge exists");
     let faces: Vec<_> = e.iter().collect();
     let mid = Vec2::from((mesh.rest(a) + mesh.rest(b)) * 0.5);
@@ -65,7 +68,10 @@ fn midpoint_split_conserves_mass_and_momentum_and_records_energy_loss() {
     // The velocities of the edge's ends are unchanged by the split.
     let loss = e0 - e1;
     let expected = m_new / 8.0 * (vel(&sim, 6) - vel(&sim, 12)).norm_squared();
-    assert!((loss - expected).abs() <= 1e-9 * expected.max(1e-30), "{loss} vs {expected}");
+    assert!(
+        (loss - expected).abs() <= 1e-9 * expected.max(1e-30),
+        "{loss} vs {expected}"
+    );
 }
 
 fn vel(sim: &Simulation, i: usize) -> Vec3 {
