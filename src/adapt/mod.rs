@@ -2,14 +2,16 @@
 //! services strategies call to change the mesh while keeping the physics consistent.
 //!
 //! In the step: after integration and the collision pass, the simulation calls
-//! [`Adaptivity::adapt`]; a strategy decides what to change (criteria are shared, in this module's
-//! future `criteria`), and applies every elementary change through [`apply_edit`], which checks
+//! [`Adaptivity::adapt`]; a strategy decides what to change (the criteria are shared:
+//! [`criteria`]), and applies every elementary change through [`apply_edit`], which checks
 //! conformity, transfers state to new vertices, recomputes touched masses, restores the region's
 //! linear momentum and records the kinetic-energy change. Spring and bending arrays and `dt` are
 //! rebuilt by the simulation before the next step.
 
+pub mod criteria;
 mod transfer;
 
+pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
 pub use transfer::{apply_edit, Transfer};
 
 use crate::cloth::Cloth;

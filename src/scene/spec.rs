@@ -386,6 +386,13 @@ pub struct AdaptivitySpec {
     pub density_refine: Real,
     /// Density factor scale when simplifying. Default 0.35.
     pub density_simplify: Real,
+    /// Collision criterion: an edge meeting an obstacle is not refined when the mean normal of its
+    /// faces and the obstacle normal have an absolute cosine at least this (flat contact).
+    /// Default 0.97 (about 14 degrees).
+    pub flat_contact_cos: Real,
+    /// Curvature criterion: exponent of `theta_refine = theta_max (A_max / A_e)^exponent`.
+    /// Default 0.5.
+    pub curvature_exponent: Real,
     /// Maximum subdivision depth (1-to-4). Default 3.
     pub max_depth: u32,
     /// Cosine-limit factor per depth level (1-to-4). Default 0.95.
@@ -406,6 +413,8 @@ impl Default for AdaptivitySpec {
             t_simplify: 0.1,
             density_refine: 1.01,
             density_simplify: 0.35,
+            flat_contact_cos: 0.97,
+            curvature_exponent: 0.5,
             max_depth: 3,
             depth_factor: 0.95,
         }

@@ -246,6 +246,14 @@ pub(super) fn validate(
     c.positive("adaptivity.density_refine", a.density_refine)?;
     c.positive("adaptivity.density_simplify", a.density_simplify)?;
     c.positive("adaptivity.depth_factor", a.depth_factor)?;
+    if !(0.0..=1.0).contains(&a.flat_contact_cos) {
+        return Err(c.fail(
+            "adaptivity.flat_contact_cos",
+            a.flat_contact_cos,
+            "expected a cosine in [0, 1]",
+        ));
+    }
+    c.non_negative("adaptivity.curvature_exponent", a.curvature_exponent)?;
 
     for (i, p) in scene.tracked.iter().enumerate() {
         if !p.rest.iter().all(|x| x.is_finite()) {
