@@ -32,6 +32,8 @@ pub(crate) struct Style {
     pub back: [f32; 3],
     /// Whether the mesh edges are drawn.
     pub edges: bool,
+    /// Depth bias: the mesh is drawn as if this fraction of its view depth nearer (0 for none).
+    pub depth_bias: f32,
 }
 
 /// A supersampled colour and depth buffer.
@@ -70,6 +72,7 @@ impl Canvas {
         let cam = camera.scaled(SUPERSAMPLE as f32);
         let light = normalize(LIGHT);
         let eye = cam.eye();
+        let bias = |p: [f32; 3]| [p[0], p[1], p[2] * (1.0 - style.depth_bias)];
         let views: Vec<[f32; 3]> = mesh.positions.iter().map(|&p| cam.view(p)).collect();
         for f in &mesh.faces {
             let [a, b, c] = f.map(|i| mesh.positions[i as usize]);
@@ -87,13 +90,13 @@ impl Canvas {
             let color = base.map(|x| x * shade);
             let v = f.map(|i| views[i as usize]);
             if v.iter().all(|p| p[2] >= cam.near) {
-                self.fill(v.map(|p| cam.screen(p)), color, style.edges);
+                self.fill(v.map(|p| bias(cam.screen(p))), color, style.edges);
             } else {
                 // Clip against the near plane (only the ground reaches behind the camera);
                 // clipped pieces get no edges since their sides are not mesh edges.
                 let poly = clip_near(v, cam.near);
                 for i in 1..poly.len().saturating_sub(1) {
-                    let t = [poly[0], poly[i], poly[i + 1]].map(|p| cam.screen(p));
+                    let t = [poly[0], poly[i], poly[i + 1]].map(|p| bias(cam.screen(p)));
                     self.fill(t, color, false);
                 }
             }
