@@ -48,24 +48,35 @@ fn main() -> Result<()> {
                 .iter()
                 .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))
                 .context("a run without frames")?;
-            row.frames.push((nearest.0, render::read_obj_frame(&nearest.1)?));
+            row.frames
+                .push((nearest.0, render::read_obj_frame(&nearest.1)?));
         }
         rows.push(row);
     }
     let start = Instant::now();
     render::snapshot_grid(&rows, &obstacles, &out)?;
     let cells: usize = rows.iter().map(|r| r.frames.len()).sum();
-    println!("grid of {cells} cells: {:.3} s", start.elapsed().as_secs_f64());
+    println!(
+        "grid of {cells} cells: {:.3} s",
+        start.elapsed().as_secs_f64()
+    );
     for (k, row) in rows.iter().enumerate() {
-        let Some((_, mesh)) = row.frames.last() else { continue };
+        let Some((_, mesh)) = row.frames.last() else {
+            continue;
+        };
         let path = out.with_file_name(format!(
             "{}-{k}.png",
-            out.file_stem().and_then(|s| s.to_str()).unwrap_or("snapshot")
+            out.file_stem()
+                .and_then(|s| s.to_str())
+                .unwrap_or("snapshot")
         ));
         let start = Instant::now();
         render::render_png(mesh, &obstacles, 480, 360, &path)?;
-        let triangles: usize =
-            mesh.faces.len() + obstacles.iter().map(|o: &FrameMesh| o.faces.len()).sum::<usize>();
+        let triangles: usize = mesh.faces.len()
+            + obstacles
+                .iter()
+                .map(|o: &FrameMesh| o.faces.len())
+                .sum::<usize>();
         println!(
             "{}: {triangles} triangles at 480x360: {:.3} s",
             path.display(),

@@ -110,7 +110,8 @@ impl Camera {
             (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
         }
         let usable = 1.0 - 2.0 * MARGIN;
-        cam.focal = (width * usable / (x1 - x0).max(1e-6)).min(height * usable / (y1 - y0).max(1e-6));
+        cam.focal =
+            (width * usable / (x1 - x0).max(1e-6)).min(height * usable / (y1 - y0).max(1e-6));
         cam.cx = 0.5 * width - cam.focal * 0.5 * (x0 + x1);
         cam.cy = 0.5 * height + cam.focal * 0.5 * (y0 + y1);
         cam

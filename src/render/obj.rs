@@ -64,7 +64,9 @@ pub(crate) fn parse_obj(text: &str, path: &Path) -> Result<FrameMesh, RenderErro
                         .split('/')
                         .next()
                         .and_then(|s| s.parse::<i64>().ok())
-                        .ok_or_else(|| err(line_no, "`f a b c` with integer vertex indices", raw))?;
+                        .ok_or_else(|| {
+                            err(line_no, "`f a b c` with integer vertex indices", raw)
+                        })?;
                     let n = mesh.positions.len() as i64;
                     let zero_based = if index > 0 { index - 1 } else { n + index };
                     if index == 0 || zero_based < 0 || zero_based >= n {

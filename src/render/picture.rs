@@ -13,8 +13,8 @@ const CLOTH_FRONT: [f32; 3] = [0.36, 0.58, 0.88];
 const CLOTH_BACK: [f32; 3] = [0.93, 0.62, 0.32];
 /// Solid obstacles: light grey.
 const OBSTACLE: [f32; 3] = [0.8, 0.8, 0.8];
-/// The ground (flat obstacles): lighter grey.
-const GROUND: [f32; 3] = [0.93, 0.93, 0.93];
+/// The ground (flat obstacles): white, which the shading turns into a very light grey.
+const GROUND: [f32; 3] = [1.0, 1.0, 1.0];
 /// Cloth depth bias (fraction of view depth): the flat cloth triangles between vertices resting on
 /// a curved obstacle cut its surface by the sagitta (about 2 mm for 6 cm edges on a 25 cm
 /// sphere); this bias hides such small cuts so fine meshes do not look speckled, while the deep
@@ -115,8 +115,8 @@ pub fn render_png(
 }
 
 /// A grid of snapshots written as a PNG to `path`: one row per run (its label on the left), one
-/// column per time (the first row's times label the columns; a cell whose time differs from its
-/// column's says its own). Each cell is 360 x 270 pixels showing the cloth with its mesh edges
+/// column per time (the first row's times label the columns; a cell whose time, as labelled,
+/// differs from its column's says its own). Each cell is 360 x 270 pixels showing the cloth with its mesh edges
 /// and the obstacles in grey, all cells through the same camera, framed on every frame of every
 /// row and the solid obstacles, so cells compare directly.
 ///
@@ -126,7 +126,12 @@ pub fn snapshot_grid(
     obstacles: &[FrameMesh],
     path: &Path,
 ) -> Result<(), RenderError> {
-    let columns = rows.iter().map(|r| r.frames.len()).max().unwrap_or(0).max(1);
+    let columns = rows
+        .iter()
+        .map(|r| r.frames.len())
+        .max()
+        .unwrap_or(0)
+        .max(1);
     let label_width = rows
         .iter()
         .map(|r| text_width(&r.label, LABEL_SIZE).ceil() as usize)
@@ -140,25 +145,42 @@ pub fn snapshot_grid(
     let camera = camera_for(cloth, obstacles, CELL_WIDTH, CELL_HEIGHT);
     let mut img = Image::new(width, height);
     let column_time = |c: usize| rows.iter().find_map(|r| r.frames.get(c).map(|f| f.0));
+    let decimals = time_decimals(rows.iter().flat_map(|r| r.frames.iter().map(|f| f.0)));
     for c in 0..columns {
         if let Some(t) = column_time(c) {
-            let text = time_label(t);
+            let text = time_label(t, decimals);
             let x = label_width + c * CELL_WIDTH;
             let dx = (CELL_WIDTH as f32 - text_width(&text, LABEL_SIZE)) * 0.5;
-            draw_text(&mut img, x as f32 + dx, HEADER_HEIGHT as f32 - 9.0, &text, LABEL_SIZE, TEXT_COLOR);
+            draw_text(
+                &mut img,
+                x as f32 + dx,
+                HEADER_HEIGHT as f32 - 9.0,
+                &text,
+                LABEL_SIZE,
+                TEXT_COLOR,
+            );
         }
     }
     for (r, row) in rows.iter().enumerate() {
         let y = HEADER_HEIGHT + r * CELL_HEIGHT;
         let baseline = y as f32 + 0.5 * (CELL_HEIGHT as f32 + LABEL_SIZE * 0.7);
-        draw_text(&mut img, PAD as f32, baseline, &row.label, LABEL_SIZE, TEXT_COLOR);
+        draw_text(
+            &mut img, PAD as f32, baseline, &row.label, LABEL_SIZE, TEXT_COLOR,
+        );
         for (c, (t, mesh)) in row.frames.iter().enumerate() {
             let x = label_width + c * CELL_WIDTH;
             let rgb = draw_scene(&camera, mesh, obstacles, CELL_WIDTH, CELL_HEIGHT)?;
             img.blit(x, y, CELL_WIDTH, CELL_HEIGHT, &rgb);
-            if column_time(c).is_some_and(|ct| (ct - t).abs() > 1e-9) {
-                let text = time_label(*t);
-                draw_text(&mut img, (x + 6) as f32, (y + 18) as f32, &text, 13.0, TEXT_COLOR);
+            let text = time_label(*t, decimals);
+            if column_time(c).is_some_and(|ct| time_label(ct, decimals) != text) {
+                draw_text(
+                    &mut img,
+                    (x + 6) as f32,
+                    (y + 18) as f32,
+                    &text,
+                    13.0,
+                    TEXT_COLOR,
+                );
             }
         }
     }
@@ -167,23 +189,39 @@ pub fn snapshot_grid(
         img.fill_rect(0, HEADER_HEIGHT + r * CELL_HEIGHT, width, 1, RULE_COLOR);
     }
     for c in 0..=columns {
-        img.fill_rect(label_width + c * CELL_WIDTH, HEADER_HEIGHT, 1, height, RULE_COLOR);
+        img.fill_rect(
+            label_width + c * CELL_WIDTH,
+            HEADER_HEIGHT,
+            1,
+            height,
+            RULE_COLOR,
+        );
     }
     write_png(path, width as u32, height as u32, &img.rgb)
 }
 
-/// `t = 0.25 s`, with as few decimals as keep two significant digits below 1 s.
-fn time_label(t: f64) -> String {
-    let decimals = if t == 0.0 || t.abs() >= 0.1 {
-        2
-    } else {
-        (-(t.abs().log10().floor()) as usize + 1).min(6)
-    };
+/// Decimals for time labels: two, or enough to show two significant digits of the smallest
+/// non-zero time (at most six).
+fn time_decimals(times: impl Iterator<Item = f64>) -> usize {
+    times
+        .filter(|t| t.is_finite() && *t != 0.0)
+        .map(|t| (1.0 - t.abs().log10().floor()).clamp(2.0, 6.0) as usize)
+        .max()
+        .unwrap_or(2)
+}
+
+/// `t = 0.25 s`.
+fn time_label(t: f64, decimals: usize) -> String {
     format!("t = {t:.decimals$} s")
 }
 
 /// Writes RGB bytes as an 8-bit PNG.
-pub(crate) fn write_png(path: &Path, width: u32, height: u32, rgb: &[u8]) -> Result<(), RenderError> {
+pub(crate) fn write_png(
+    path: &Path,
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+) -> Result<(), RenderError> {
     let io = |source| RenderError::Io {
         path: path.to_path_buf(),
         source,

@@ -20,6 +20,10 @@ const DIFFUSE: f32 = 0.65;
 const EDGE_COLOR: [f32; 3] = [0.08, 0.1, 0.16];
 /// Opacity of the mesh edges over the face colour.
 const EDGE_ALPHA: f32 = 0.7;
+/// Edges of triangles whose shortest side is below this length (final pixels) are drawn fainter,
+/// in proportion, down to `EDGE_MIN_FADE` of their opacity.
+const EDGE_FADE_LENGTH: f32 = 8.0;
+const EDGE_MIN_FADE: f32 = 0.4;
 /// Half width of an edge line on each side of the edge (final pixels).
 const EDGE_HALF_WIDTH: f32 = 0.45;
 
@@ -107,11 +111,21 @@ impl Canvas {
     /// Fills one triangle given in pixel coordinates and view depth.
     fn fill(&mut self, p: [[f32; 3]; 3], color: [f32; 3], edges: bool) {
         let area = edge_fn(p[0], p[1], p[2][0], p[2][1]);
-        if !(area.abs() > 1e-9) {
+        if area.is_nan() || area.abs() <= 1e-9 {
             return;
         }
-        let xmin = p.iter().map(|q| q[0]).fold(f32::MAX, f32::min).floor().max(0.0);
-        let ymin = p.iter().map(|q| q[1]).fold(f32::MAX, f32::min).floor().max(0.0);
+        let xmin = p
+            .iter()
+            .map(|q| q[0])
+            .fold(f32::MAX, f32::min)
+            .floor()
+            .max(0.0);
+        let ymin = p
+            .iter()
+            .map(|q| q[1])
+            .fold(f32::MAX, f32::min)
+            .floor()
+            .max(0.0);
         let xmax = p.iter().map(|q| q[0]).fold(f32::MIN, f32::max).ceil();
         let ymax = p.iter().map(|q| q[1]).fold(f32::MIN, f32::max).ceil();
         let xmax = xmax.min(self.width as f32 - 1.0);
@@ -122,10 +136,15 @@ impl Canvas {
         let inv_z = p.map(|q| 1.0 / q[2]);
         let len = [0, 1, 2].map(|i| {
             let (a, b) = (p[(i + 1) % 3], p[(i + 2) % 3]);
-            ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2)).sqrt().max(1e-6)
+            ((b[0] - a[0]).powi(2) + (b[1] - a[1]).powi(2))
+                .sqrt()
+                .max(1e-6)
         });
         let half_width = EDGE_HALF_WIDTH * SUPERSAMPLE as f32;
-        let edge_color = [0, 1, 2].map(|k| color[k] + EDGE_ALPHA * (EDGE_COLOR[k] - color[k]));
+        // Small triangles get fainter edges so fine meshes do not turn dark.
+        let shortest = len[0].min(len[1]).min(len[2]) / SUPERSAMPLE as f32;
+        let alpha = EDGE_ALPHA * (shortest / EDGE_FADE_LENGTH).clamp(EDGE_MIN_FADE, 1.0);
+        let edge_color = [0, 1, 2].map(|k| color[k] + alpha * (EDGE_COLOR[k] - color[k]));
         let inv_area = 1.0 / area;
         for y in ymin as usize..=ymax as usize {
             let py = y as f32 + 0.5;

@@ -41,7 +41,10 @@ fn is_closed_and_oriented(m: &FrameMesh) -> bool {
         .collect();
     directed.sort_unstable();
     let unique = directed.windows(2).all(|w| w[0] != w[1]);
-    unique && directed.iter().all(|&(a, b)| directed.binary_search(&(b, a)).is_ok())
+    unique
+        && directed
+            .iter()
+            .all(|&(a, b)| directed.binary_search(&(b, a)).is_ok())
 }
 
 #[test]
@@ -62,7 +65,11 @@ fn reads_a_frame_written_by_a_run() {
 
 #[test]
 fn obj_polygons_are_fanned_and_negative_indices_count_from_the_end() {
-    let m = parse_obj("v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3//1 -2 -1\n", Path::new("q")).unwrap();
+    let m = parse_obj(
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3//1 -2 -1\n",
+        Path::new("q"),
+    )
+    .unwrap();
     assert_eq!(m.faces, vec![[0, 1, 2], [0, 2, 3]]);
 }
 
@@ -193,8 +200,15 @@ fn a_triangle_is_drawn_where_it_is_and_nowhere_else() {
     let tri = facing_triangle(&cam, [0.0; 3], 0.8);
     let rgb = draw_scene(&cam, &tri, &[], w, h).unwrap();
     let centre = pixel(&rgb, w, w / 2, h / 2);
-    assert!(centre[2] > centre[0] + 40, "blue-ish cloth front at the centre: {centre:?}");
-    assert_eq!(pixel(&rgb, w, 2, 2), [255; 3], "white background in the corner");
+    assert!(
+        centre[2] > centre[0] + 40,
+        "blue-ish cloth front at the centre: {centre:?}"
+    );
+    assert_eq!(
+        pixel(&rgb, w, 2, 2),
+        [255; 3],
+        "white background in the corner"
+    );
     // Seen from behind, the same triangle is shaded with the back tint (orange-ish).
     let mut back = tri.clone();
     back.faces = vec![[0, 2, 1]];
@@ -217,7 +231,10 @@ fn a_triangle_is_drawn_where_it_is_and_nowhere_else() {
         .map(|(x, y)| brightness(pixel(&rgb, w, x, y)))
         .min()
         .unwrap();
-    assert!(on_edge + 100 < brightness(centre), "{on_edge} vs {centre:?}");
+    assert!(
+        on_edge + 100 < brightness(centre),
+        "{on_edge} vs {centre:?}"
+    );
 }
 
 #[test]
@@ -251,7 +268,12 @@ fn pictures_are_deterministic_pngs_and_bad_sizes_are_errors() {
     ];
     let obstacles = obstacle_meshes(&specs, dir.path()).unwrap();
     let cloth = FrameMesh {
-        positions: vec![[-0.5, -0.5, 0.3], [0.5, -0.5, 0.3], [0.5, 0.5, 0.3], [-0.5, 0.5, 0.3]],
+        positions: vec![
+            [-0.5, -0.5, 0.3],
+            [0.5, -0.5, 0.3],
+            [0.5, 0.5, 0.3],
+            [-0.5, 0.5, 0.3],
+        ],
         faces: vec![[0, 1, 2], [0, 2, 3]],
     };
     let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));

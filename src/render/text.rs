@@ -46,9 +46,9 @@ impl Image {
         }
         let i = (y as usize * self.width + x as usize) * 3;
         let a = coverage.clamp(0.0, 1.0);
-        for k in 0..3 {
-            let old = self.rgb[i + k] as f32;
-            self.rgb[i + k] = (old + a * (color[k] as f32 - old) + 0.5) as u8;
+        for (dst, &src) in self.rgb[i..i + 3].iter_mut().zip(&color) {
+            let old = *dst as f32;
+            *dst = (old + a * (src as f32 - old) + 0.5) as u8;
         }
     }
 }
@@ -75,7 +75,14 @@ pub(crate) fn text_width(text: &str, size: f32) -> f32 {
 }
 
 /// Draws `text` at `size` pixels with its baseline starting at `(x, baseline)`.
-pub(crate) fn draw_text(img: &mut Image, x: f32, baseline: f32, text: &str, size: f32, color: [u8; 3]) {
+pub(crate) fn draw_text(
+    img: &mut Image,
+    x: f32,
+    baseline: f32,
+    text: &str,
+    size: f32,
+    color: [u8; 3],
+) {
     let Some(font) = font() else { return };
     let scaled = font.as_scaled(size);
     let mut caret = x;

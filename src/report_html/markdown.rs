@@ -67,7 +67,9 @@ pub fn to_html(markdown: &str, image: &dyn Fn(&str, &str) -> String) -> String {
             flush(&mut paragraph, &mut out);
             out.push_str("<hr>\n");
             i += 1;
-        } else if trimmed.starts_with('|') && lines.get(i + 1).is_some_and(|l| separator(l).is_some()) {
+        } else if trimmed.starts_with('|')
+            && lines.get(i + 1).is_some_and(|l| separator(l).is_some())
+        {
             flush(&mut paragraph, &mut out);
             let align = separator(lines[i + 1]).unwrap_or_default();
             let mut rows = vec![cells(trimmed)];
@@ -211,7 +213,10 @@ pub fn inline(text: &str, image: &dyn Fn(&str, &str) -> String) -> String {
             }
         } else if c == '*' && chars.get(i + 1) == Some(&'*') {
             if let Some(end) = find(i + 2, &['*', '*']).filter(|&e| e > i + 2) {
-                out.push_str(&format!("<strong>{}</strong>", inline(&slice(i + 2, end), image)));
+                out.push_str(&format!(
+                    "<strong>{}</strong>",
+                    inline(&slice(i + 2, end), image)
+                ));
                 i = end + 2;
                 continue;
             }
@@ -262,7 +267,10 @@ mod tests {
         assert!(html.contains("<p>Intro text wraps here.</p>"), "{html}");
         assert!(html.contains("<thead>\n<tr><th>strategy</th><th style=\"text-align:right\">error (m)</th><th style=\"text-align:center\">n</th></tr>"), "{html}");
         assert!(html.contains("<tr><td>static</td><td style=\"text-align:right\">0.012</td><td style=\"text-align:center\"><code>5</code></td></tr>"), "{html}");
-        assert!(html.contains("<td style=\"text-align:right\"><strong>0.004</strong></td>"), "{html}");
+        assert!(
+            html.contains("<td style=\"text-align:right\"><strong>0.004</strong></td>"),
+            "{html}"
+        );
         assert_eq!(html.matches("<tr>").count(), 3);
     }
 
@@ -272,12 +280,29 @@ mod tests {
         let html = to_html(md, &no_image);
         assert!(html.contains("<h2>Results</h2>"), "{html}");
         assert!(html.contains("<ul>\n<li>one <em>a</em></li>\n<li>two <a href=\"docs/x.md\">docs</a> continued</li>\n</ul>"), "{html}");
-        assert!(html.contains("<ol>\n<li>first</li>\n<li>second</li>\n</ol>"), "{html}");
-        assert!(html.contains("<pre><code class=\"language-toml\">x = &quot;&lt;1&gt;&quot;</code></pre>"), "{html}");
-        assert!(html.contains("<p>A &lt; B &amp; [plot:p.svg]</p>"), "{html}");
+        assert!(
+            html.contains("<ol>\n<li>first</li>\n<li>second</li>\n</ol>"),
+            "{html}"
+        );
+        assert!(
+            html.contains(
+                "<pre><code class=\"language-toml\">x = &quot;&lt;1&gt;&quot;</code></pre>"
+            ),
+            "{html}"
+        );
+        assert!(
+            html.contains("<p>A &lt; B &amp; [plot:p.svg]</p>"),
+            "{html}"
+        );
         assert!(html.contains("<hr>"));
         assert!(!html.contains("<script"));
-        assert_eq!(to_html("<script>x</script>", &no_image), "<p>&lt;script&gt;x&lt;/script&gt;</p>\n");
-        assert_eq!(inline("a * b and snake_case", &no_image), "a * b and snake_case");
+        assert_eq!(
+            to_html("<script>x</script>", &no_image),
+            "<p>&lt;script&gt;x&lt;/script&gt;</p>\n"
+        );
+        assert_eq!(
+            inline("a * b and snake_case", &no_image),
+            "a * b and snake_case"
+        );
     }
 }

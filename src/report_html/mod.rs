@@ -103,7 +103,11 @@ fn flat_faces(m: &FrameMesh) -> Vec<u32> {
     m.faces.iter().flatten().copied().collect()
 }
 
-fn replay_json(title: &str, replays: &[ReplayRun], obstacles: &[FrameMesh]) -> std::io::Result<String> {
+fn replay_json(
+    title: &str,
+    replays: &[ReplayRun],
+    obstacles: &[FrameMesh],
+) -> std::io::Result<String> {
     let runs = replays
         .iter()
         .map(|run| {
@@ -126,7 +130,10 @@ fn replay_json(title: &str, replays: &[ReplayRun], obstacles: &[FrameMesh]) -> s
             times.resize(frames.len(), times.last().copied().unwrap_or(0.0));
             RunJson {
                 label: run.label.clone(),
-                times: times.iter().map(|t| if t.is_finite() { *t } else { 0.0 }).collect(),
+                times: times
+                    .iter()
+                    .map(|t| if t.is_finite() { *t } else { 0.0 })
+                    .collect(),
                 topologies,
                 frames,
             }
@@ -163,7 +170,10 @@ fn embedded_image(path: &Path, alt: &str) -> std::io::Result<String> {
         _ => {
             return Err(std::io::Error::new(
                 std::io::ErrorKind::InvalidInput,
-                format!("{}: only .png and .svg images can be embedded", path.display()),
+                format!(
+                    "{}: only .png and .svg images can be embedded",
+                    path.display()
+                ),
             ))
         }
     };
@@ -202,8 +212,14 @@ pub fn write_report_html(
     let mut toc = String::new();
     for (k, s) in sections.iter().enumerate() {
         let id = format!("section-{}", k + 1);
-        toc.push_str(&format!("<li><a href=\"#{id}\">{}</a></li>", escape(&s.title)));
-        body.push_str(&format!("<section id=\"{id}\">\n<h2>{}</h2>\n", escape(&s.title)));
+        toc.push_str(&format!(
+            "<li><a href=\"#{id}\">{}</a></li>",
+            escape(&s.title)
+        ));
+        body.push_str(&format!(
+            "<section id=\"{id}\">\n<h2>{}</h2>\n",
+            escape(&s.title)
+        ));
         body.push_str(&markdown::to_html(&s.markdown, &md_image));
         for img in &s.images {
             let caption = img.file_stem().and_then(|s| s.to_str()).unwrap_or("");

@@ -20,7 +20,7 @@
 
   // Same look as the PNG snapshots (src/render).
   var CLOTH_FRONT = [0.36, 0.58, 0.88], CLOTH_BACK = [0.93, 0.62, 0.32];
-  var OBSTACLE = [0.8, 0.8, 0.8], GROUND = [0.93, 0.93, 0.93];
+  var OBSTACLE = [0.8, 0.8, 0.8], GROUND = [1.0, 1.0, 1.0];
   var EDGE = 'rgba(20, 26, 41, 0.7)';
   var AMBIENT = 0.35, DIFFUSE = 0.65;
   var LIGHT = normalize([0.1, -0.8, 1.2]);
@@ -61,10 +61,20 @@
     var right = normalize([fwd[1], -fwd[0], 0]);
     if (!isFinite(right[0]) || Math.hypot(right[0], right[1]) < 1e-6) right = [1, 0, 0];
     var up = [right[1] * fwd[2] - right[2] * fwd[1], right[2] * fwd[0] - right[0] * fwd[2], right[0] * fwd[1] - right[1] * fwd[0]];
-    // The bounding sphere seen from 3 radii fills ~90% of the smaller side at zoom 1.
-    var focal = view.zoom * 0.45 * Math.min(canvas.width, canvas.height) / Math.tan(Math.asin(1 / 3));
-    return { eye: eye, fwd: fwd, right: right, up: up, focal: focal, near: 0.01 * radius };
+    return { eye: eye, fwd: fwd, right: right, up: up, focal: view.zoom * fitFocal, near: 0.01 * radius };
   }
+  // Focal length (pixels) at which the box, seen from the initial view, fills 90% of the canvas.
+  var fitFocal = 1;
+  (function () {
+    var cam = camera(), fx = 1e-6, fy = 1e-6;
+    for (var k = 0; k < 8; k++) {
+      var p = [0, 1, 2].map(function (i) { return box[(k >> i) & 1][i] - cam.eye[i]; });
+      var z = p[0] * cam.fwd[0] + p[1] * cam.fwd[1] + p[2] * cam.fwd[2];
+      fx = Math.max(fx, Math.abs(p[0] * cam.right[0] + p[1] * cam.right[1] + p[2] * cam.right[2]) / z);
+      fy = Math.max(fy, Math.abs(p[0] * cam.up[0] + p[1] * cam.up[1] + p[2] * cam.up[2]) / z);
+    }
+    fitFocal = 0.45 * Math.min(canvas.width / fx, canvas.height / fy);
+  })();
 
   function shadeColor(base, s) {
     return 'rgb(' + Math.round(255 * base[0] * s) + ',' + Math.round(255 * base[1] * s) + ',' + Math.round(255 * base[2] * s) + ')';

@@ -32,15 +32,29 @@ fn the_report_is_self_contained_and_embeds_its_images() {
         frames: vec![square(0.3), square(0.2), refined],
     }];
     let out = dir.path().join("report.html");
-    write_report_html(&out, "Sphere & friends", &sections, &replays, &[square(0.0)]).unwrap();
+    write_report_html(
+        &out,
+        "Sphere & friends",
+        &sections,
+        &replays,
+        &[square(0.0)],
+    )
+    .unwrap();
     let html = std::fs::read_to_string(&out).unwrap();
-    assert!(!html.contains("http://") && !html.contains("https://"), "network reference");
+    assert!(
+        !html.contains("http://") && !html.contains("https://"),
+        "network reference"
+    );
     assert!(!html.contains("<link") && !html.contains("<script src"));
     assert!(html.contains("<title>Sphere &amp; friends</title>"));
     assert!(html.contains("<h2>Errors &lt;vs&gt; resolution</h2>"));
     assert!(html.contains("<td>1</td>"));
     assert_eq!(html.matches("src=\"data:image/svg+xml;base64,").count(), 1);
-    assert_eq!(html.matches("src=\"data:image/png;base64,").count(), 2, "inline + listed");
+    assert_eq!(
+        html.matches("src=\"data:image/png;base64,").count(),
+        2,
+        "inline + listed"
+    );
     assert!(html.contains("<em>[remote]</em>"));
     assert!(html.contains("id=\"status\"") && html.contains("id=\"replay-canvas\""));
     // Exactly one raw "</script>" per script element: the label cannot close one early.
