@@ -4,8 +4,10 @@
 //! cargo run --release --example snapshot -- SCENE.toml OUT.png T1,T2,... RUN_DIR[=LABEL]...
 //! ```
 //! Picks, for each time, the frame whose time is nearest. Writes `OUT.png` (the grid) and
-//! `OUT-<k>.png` (the last chosen frame of run k alone, 480 x 360) and prints the render times.
+//! `OUT-<k>.png` (the last chosen frame of run k alone, 480 x 360), `OUT.html` (a report page with
+//! the grid and a 3D replay of every frame of every run) and prints the render times.
 use adaptcloth::render::{self, FrameMesh, SnapshotRow};
+use adaptcloth::report_html::{write_report_html, HtmlSection, ReplayRun};
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -36,6 +38,7 @@ fn main() -> Result<()> {
         .collect::<Result<_>>()?;
     let obstacles = render::obstacle_meshes(&loaded.scene.obstacles, &loaded.base_dir)?;
     let mut rows = Vec::new();
+    let mut replays = Vec::new();
     for run in &args[3..] {
         let (dir, label) = run.split_once('=').unwrap_or((run, run));
         let frames = frames_of(Path::new(dir))?;
@@ -52,6 +55,15 @@ fn main() -> Result<()> {
                 .push((nearest.0, render::read_obj_frame(&nearest.1)?));
         }
         rows.push(row);
+        let mut replay = ReplayRun {
+            label: label.to_string(),
+            ..Default::default()
+        };
+        for (t, p) in &frames {
+            replay.frame_times.push(*t);
+            replay.frames.push(render::read_obj_frame(p)?);
+        }
+        replays.push(replay);
     }
     let start = Instant::now();
     render::snapshot_grid(&rows, &obstacles, &out)?;
@@ -83,5 +95,17 @@ fn main() -> Result<()> {
             start.elapsed().as_secs_f64()
         );
     }
+    let section = HtmlSection {
+        title: "Snapshots".into(),
+        markdown: format!("Scene `{}`.", args[0]),
+        images: vec![out.clone()],
+    };
+    write_report_html(
+        &out.with_extension("html"),
+        "adaptcloth snapshots",
+        &[section],
+        &replays,
+        &obstacles,
+    )?;
     Ok(())
 }

@@ -11,6 +11,11 @@ use std::path::Path;
 const SEGMENTS: usize = 48;
 /// Rings from pole to pole of a sphere.
 const SPHERE_RINGS: usize = 24;
+/// 1-to-4 subdivision passes of the cylinder and the box: their large flat faces are cut into
+/// triangles of a size similar to the sphere's, so a painter's-algorithm renderer (the HTML
+/// replay) sorts them correctly against the cloth lying on them.
+const CYLINDER_SUBDIVISIONS: usize = 2;
+const BOX_SUBDIVISIONS: usize = 3;
 /// Smallest half side of the ground square (m).
 const GROUND_MIN_HALF_SIDE: f32 = 1.5;
 /// Ground half side as a multiple of the other obstacles' horizontal reach from the origin.
@@ -19,8 +24,9 @@ const GROUND_REACH_FACTOR: f32 = 1.5;
 /// Triangle meshes of the scene's obstacles, in the order of `specs`, for drawing.
 ///
 /// - sphere: a UV sphere of 48 segments and 24 rings;
-/// - cylinder (vertical axis, `center` halfway up): 48 segments with both caps;
-/// - box: 12 triangles;
+/// - cylinder (vertical axis, `center` halfway up): 48 segments with both caps, each triangle
+///   then split 1-to-4 twice;
+/// - box: 12 triangles, each split 1-to-4 three times;
 /// - ground: a horizontal square at `height`, centred on the origin (where scenes put the cloth),
 ///   of half side `max(1.5 m, 1.5 x the largest |x| or |y| reached by the other obstacles)`;
 /// - mesh: the OBJ file (relative to `base_dir`, the scene file's folder), scaled then translated.
@@ -53,7 +59,10 @@ pub fn obstacle_meshes(
                 if !(*radius > 0.0 && *height > 0.0 && radius.is_finite() && height.is_finite()) {
                     return Err(bad("cylinder radius and height must be positive"));
                 }
-                Some(cylinder(to_f32(center), *radius as f32, *height as f32))
+                Some(subdivide(
+                    cylinder(to_f32(center), *radius as f32, *height as f32),
+                    CYLINDER_SUBDIVISIONS,
+                ))
             }
             ObstacleShape::Box {
                 center,
@@ -62,7 +71,10 @@ pub fn obstacle_meshes(
                 if !half_extents.iter().all(|h| *h > 0.0 && h.is_finite()) {
                     return Err(bad("box half extents must be positive"));
                 }
-                Some(cuboid(to_f32(center), to_f32(half_extents)))
+                Some(subdivide(
+                    cuboid(to_f32(center), to_f32(half_extents)),
+                    BOX_SUBDIVISIONS,
+                ))
             }
             ObstacleShape::Mesh {
                 file,
@@ -200,4 +212,27 @@ fn cuboid(c: [f32; 3], h: [f32; 3]) -> FrameMesh {
         .flat_map(|q| [[q[0], q[1], q[2]], [q[0], q[2], q[3]]])
         .collect();
     FrameMesh { positions, faces }
+}
+
+/// Splits every triangle into four at its edge midpoints, `passes` times; midpoints are shared
+/// between neighbours, so a closed mesh stays closed (and its volume unchanged).
+fn subdivide(mut mesh: FrameMesh, passes: usize) -> FrameMesh {
+    for _ in 0..passes {
+        let mut midpoints = std::collections::BTreeMap::new();
+        let mut faces = Vec::with_capacity(4 * mesh.faces.len());
+        for f in std::mem::take(&mut mesh.faces) {
+            let mut mid = |a: u32, b: u32| {
+                *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                    let (p, q) = (mesh.positions[a as usize], mesh.positions[b as usize]);
+                    mesh.positions.push([0, 1, 2].map(|k| 0.5 * (p[k] + q[k])));
+                    mesh.positions.len() as u32 - 1
+                })
+            };
+            let [a, b, c] = f;
+            let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+            faces.extend([[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]]);
+        }
+        mesh.faces = faces;
+    }
+    mesh
 }

@@ -8,6 +8,8 @@
 //! the cloth with its mesh edges (blue front, orange back) and the obstacles in grey, all runs
 //! through the same initial camera as the PNG snapshots (3/4 view, 30 degrees down).
 //!
+//! A link `report.html#t=0.5` opens the replay at 0.5 s.
+//!
 //! Frame encoding: positions as integers in units of 0.1 mm; a run's face list is stored once per
 //! topology and shared by consecutive frames whose faces are unchanged.
 //!

@@ -25,7 +25,7 @@
   var AMBIENT = 0.35, DIFFUSE = 0.65;
   var LIGHT = normalize([0.1, -0.8, 1.2]);
   var ELEVATION = 30 * Math.PI / 180, AZIMUTH = -55 * Math.PI / 180;
-  var CLOTH_DEPTH_BIAS = 0.004;
+  var CLOTH_DEPTH_BIAS = 0.04; // share of the scene's bounding radius
 
   function normalize(a) { var n = Math.hypot(a[0], a[1], a[2]) || 1; return [a[0] / n, a[1] / n, a[2] / n]; }
   function bounds(p, b) {
@@ -107,8 +107,11 @@
       }
       var s = AMBIENT + DIFFUSE * Math.max(0, nrm[0] * LIGHT[0] + nrm[1] * LIGHT[1] + nrm[2] * LIGHT[2]);
       var base = kind === 'cloth' ? (front ? CLOTH_FRONT : CLOTH_BACK) : (kind === 'flat' ? GROUND : OBSTACLE);
-      var depth = (sz[a] + sz[b] + sz[c]) / 3;
-      if (kind === 'cloth') depth *= 1 - CLOTH_DEPTH_BIAS;
+      // Painter's order, biased for contact: obstacle triangles sort by their farthest corner
+      // and the cloth by its centroid brought nearer by a small share of the scene size, so the
+      // cloth lying on an obstacle is painted after the obstacle triangles just under it.
+      var depth = kind === 'cloth' ? (sz[a] + sz[b] + sz[c]) / 3 - CLOTH_DEPTH_BIAS * radius
+        : Math.max(sz[a], sz[b], sz[c]);
       out.push({ d: depth, x0: sx[a], y0: sy[a], x1: sx[b], y1: sy[b], x2: sx[c], y2: sy[c], color: shadeColor(base, s), cloth: kind === 'cloth' });
     }
   }
@@ -222,5 +225,11 @@
     draw();
   });
 
+  // A link like report.html#t=0.5 opens the replay at that time (s).
+  var m = /[#&]t=([0-9.eE+-]+)/.exec(location.hash);
+  if (m) {
+    var t0 = parseFloat(m[1]);
+    frameIndex = frameAt(data.runs[0], isFinite(t0) ? t0 : 0);
+  }
   setRun(0);
 })();
