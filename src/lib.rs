@@ -17,6 +17,10 @@
 //! - [`strategies`]: one module per adaptivity strategy.
 //! - [`sim`]: the step loop and the run driver.
 //! - [`output`]: frames, metrics, summaries.
+//! - [`render`]: pictures of runs: OBJ frames and obstacles through a small software rasteriser
+//!   to PNG (snapshot grids, single pictures); outside the step loop.
+//! - [`report_html`]: the self-contained `report.html`: markdown sections, embedded images and an
+//!   interactive 3D replay per run.
 #![warn(missing_docs)]
 
 pub mod adapt;
@@ -26,6 +30,8 @@ pub mod math;
 pub mod mesh;
 pub mod output;
 pub mod physics;
+pub mod render;
+pub mod report_html;
 pub mod scene;
 pub mod sim;
 #[path = "../strategies/mod.rs"]

@@ -1,5 +1,6 @@
 //! Integration tests of the core: scenes run end to end, physics laws hold through the whole
 //! pipeline, outputs are complete, bad input fails cleanly.
+mod browser;
 mod cli;
 mod common;
 mod physics_laws;

@@ -1,0 +1,312 @@
+//! Unit tests of the renderer: OBJ reading, obstacle meshes, rasterisation.
+
+use super::camera::Camera;
+use super::obj::parse_obj;
+use super::picture::draw_scene;
+use super::*;
+use crate::scene::{ObstacleShape, ObstacleSpec};
+use std::path::Path;
+
+fn spec(shape: ObstacleShape) -> ObstacleSpec {
+    ObstacleSpec {
+        shape,
+        friction: 0.0,
+        restitution: 0.0,
+    }
+}
+
+/// Signed volume (m³) of a closed mesh: positive when the faces point outwards.
+fn signed_volume(m: &FrameMesh) -> f64 {
+    m.faces
+        .iter()
+        .map(|f| {
+            let [a, b, c] = f.map(|i| m.positions[i as usize].map(f64::from));
+            let cross = [
+                b[1] * c[2] - b[2] * c[1],
+                b[2] * c[0] - b[0] * c[2],
+                b[0] * c[1] - b[1] * c[0],
+            ];
+            (a[0] * cross[0] + a[1] * cross[1] + a[2] * cross[2]) / 6.0
+        })
+        .sum()
+}
+
+/// Every directed edge appears once and its reverse once: the mesh is closed and consistently
+/// oriented.
+fn is_closed_and_oriented(m: &FrameMesh) -> bool {
+    let mut directed: Vec<(u32, u32)> = m
+        .faces
+        .iter()
+        .flat_map(|f| [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])])
+        .collect();
+    directed.sort_unstable();
+    let unique = directed.windows(2).all(|w| w[0] != w[1]);
+    unique
+        && directed
+            .iter()
+            .all(|&(a, b)| directed.binary_search(&(b, a)).is_ok())
+}
+
+#[test]
+fn reads_a_frame_written_by_a_run() {
+    let text = "# adaptcloth frame, t = 0.250000 s\n\
+                v 0 0 0.3\nv 1 0 0.3\nv 0 1 0.3\nv 1 1 0.25\n\
+                vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n\
+                f 1/1 2/2 3/3\nf 2/2 4/4 3/3\n";
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("frame_00001.obj");
+    std::fs::write(&path, text).unwrap();
+    let m = read_obj_frame(&path).unwrap();
+    assert_eq!(m.positions.len(), 4);
+    assert_eq!(m.positions[3], [1.0, 1.0, 0.25]);
+    assert_eq!(m.faces, vec![[0, 1, 2], [1, 3, 2]]);
+    assert_eq!(read_obj_frame_time(&path).unwrap(), Some(0.25));
+}
+
+#[test]
+fn obj_polygons_are_fanned_and_negative_indices_count_from_the_end() {
+    let m = parse_obj(
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3//1 -2 -1\n",
+        Path::new("q"),
+    )
+    .unwrap();
+    assert_eq!(m.faces, vec![[0, 1, 2], [0, 2, 3]]);
+}
+
+#[test]
+fn obj_errors_name_the_line_and_the_expectation() {
+    let cases = [
+        ("v 0 0 0\nv 1 0\n", 2, "three finite numbers"),
+        ("v 0 0 0\nv 1 0 0\nv 0 1 0\n# c\nf 1 2 4\n", 5, "1..=3"),
+        ("v 0 0 0\nv 1 0 0\nf 1 2\n", 3, "at least three"),
+        ("v 0 0 0\nf 1 x 2\n", 2, "integer vertex indices"),
+        ("v nan 0 0\n", 1, "finite"),
+    ];
+    for (text, line_no, expected_part) in cases {
+        match parse_obj(text, Path::new("bad.obj")) {
+            Err(RenderError::Obj { line, expected, .. }) => {
+                assert_eq!(line, line_no, "{text}");
+                assert!(expected.contains(expected_part), "{expected}");
+            }
+            other => panic!("{text}: {other:?}"),
+        }
+    }
+    let e = parse_obj("f 1 2 3\n", Path::new("bad.obj")).unwrap_err();
+    assert!(e.to_string().starts_with("bad.obj:1: expected"), "{e}");
+    assert!(matches!(
+        read_obj_frame(Path::new("/nonexistent/frame.obj")),
+        Err(RenderError::Io { .. })
+    ));
+}
+
+#[test]
+fn obstacle_meshes_are_closed_outward_and_near_the_analytic_volume() {
+    use std::f64::consts::PI;
+    let specs = [
+        spec(ObstacleShape::Sphere {
+            center: [0.1, 0.2, 0.3],
+            radius: 0.25,
+        }),
+        spec(ObstacleShape::Cylinder {
+            center: [0.0, 0.0, 0.375],
+            radius: 0.35,
+            height: 0.75,
+        }),
+        spec(ObstacleShape::Box {
+            center: [1.0, -1.0, 0.5],
+            half_extents: [0.1, 0.2, 0.3],
+        }),
+    ];
+    let meshes = obstacle_meshes(&specs, Path::new(".")).unwrap();
+    let analytic = [
+        4.0 / 3.0 * PI * 0.25f64.powi(3),
+        PI * 0.35f64.powi(2) * 0.75,
+        0.2 * 0.4 * 0.6,
+    ];
+    for (m, v) in meshes.iter().zip(analytic) {
+        assert!(is_closed_and_oriented(m));
+        let vol = signed_volume(m);
+        assert!(vol > 0.0 && (vol / v - 1.0).abs() < 0.02, "{vol} vs {v}");
+    }
+    let (lo, hi) = meshes[1].bounds().unwrap();
+    assert!((lo[2] - 0.0).abs() < 1e-6 && (hi[2] - 0.75).abs() < 1e-6);
+}
+
+#[test]
+fn bunny_obstacle_is_scaled_translated_and_outward() {
+    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let specs = [
+        spec(ObstacleShape::Mesh {
+            file: "meshes/bunny.obj".into(),
+            scale: 2.0,
+            translation: [0.0, 0.0, 1.0],
+        }),
+        spec(ObstacleShape::Ground { height: 0.0 }),
+    ];
+    let meshes = obstacle_meshes(&specs, &base).unwrap();
+    assert_eq!(meshes[0].positions.len(), 2002);
+    assert_eq!(meshes[0].faces.len(), 4000);
+    assert!(signed_volume(&meshes[0]) > 0.0);
+    let (lo, _) = meshes[0].bounds().unwrap();
+    assert!((lo[2] - 1.0).abs() < 1e-3, "base at z = 1: {lo:?}");
+    // The ground is an upward square reaching beyond the bunny.
+    let (glo, ghi) = meshes[1].bounds().unwrap();
+    assert_eq!(glo[2], 0.0);
+    assert!(ghi[0] >= 1.5 && glo[1] <= -1.5);
+    let [a, b, c] = meshes[1].faces[0].map(|i| meshes[1].positions[i as usize]);
+    let nz = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    assert!(nz > 0.0);
+    let missing = [spec(ObstacleShape::Mesh {
+        file: "meshes/none.obj".into(),
+        scale: 1.0,
+        translation: [0.0; 3],
+    })];
+    assert!(matches!(
+        obstacle_meshes(&missing, &base),
+        Err(RenderError::Io { .. })
+    ));
+    let bad = [spec(ObstacleShape::Sphere {
+        center: [0.0; 3],
+        radius: -1.0,
+    })];
+    assert!(matches!(
+        obstacle_meshes(&bad, &base),
+        Err(RenderError::Obstacle { index: 0, .. })
+    ));
+}
+
+fn pixel(rgb: &[u8], width: usize, x: usize, y: usize) -> [u8; 3] {
+    let i = (y * width + x) * 3;
+    [rgb[i], rgb[i + 1], rgb[i + 2]]
+}
+
+/// A large triangle facing the camera (perpendicular to the view direction through `center`).
+fn facing_triangle(camera: &Camera, center: [f32; 3], size: f32) -> FrameMesh {
+    use super::camera::{cross, normalize, sub};
+    let to_eye = normalize(sub(camera.eye(), center));
+    let right = normalize(cross([0.0, 0.0, 1.0], to_eye));
+    let up = cross(to_eye, right);
+    let at = |a: f32, b: f32| [0, 1, 2].map(|k| center[k] + size * (a * right[k] + b * up[k]));
+    FrameMesh {
+        positions: vec![at(-1.0, -0.8), at(1.0, -0.8), at(0.0, 1.0)],
+        faces: vec![[0, 1, 2]],
+    }
+}
+
+#[test]
+fn a_triangle_is_drawn_where_it_is_and_nowhere_else() {
+    let (w, h) = (200, 150);
+    let cam = Camera::framing([[-1.0; 3], [1.0; 3]], w as f32, h as f32);
+    let tri = facing_triangle(&cam, [0.0; 3], 0.8);
+    let rgb = draw_scene(&cam, &tri, &[], w, h).unwrap();
+    let centre = pixel(&rgb, w, w / 2, h / 2);
+    assert!(
+        centre[2] > centre[0] + 40,
+        "blue-ish cloth front at the centre: {centre:?}"
+    );
+    assert_eq!(
+        pixel(&rgb, w, 2, 2),
+        [255; 3],
+        "white background in the corner"
+    );
+    // Seen from behind, the same triangle is shaded with the back tint (orange-ish).
+    let mut back = tri.clone();
+    back.faces = vec![[0, 2, 1]];
+    let rgb = draw_scene(&cam, &back, &[], w, h).unwrap();
+    let c = pixel(&rgb, w, w / 2, h / 2);
+    assert!(c[0] > c[2] + 40, "back faces are shaded too: {c:?}");
+    // Mesh edges are dark lines: a facing parallelogram a, b, -a, -b split along the diagonal
+    // through the centre (same orientation as the first triangle) is dark at the centre.
+    let (a, b) = (tri.positions[0], tri.positions[1]);
+    let quad = FrameMesh {
+        positions: vec![a, b, a.map(|x| -x), b.map(|x| -x)],
+        faces: vec![[0, 1, 2], [0, 2, 3]],
+    };
+    let rgb = draw_scene(&cam, &quad, &[], w, h).unwrap();
+    let brightness = |p: [u8; 3]| p.iter().map(|&x| x as u32).sum::<u32>();
+    let o = cam.screen(cam.view([0.0; 3]));
+    let (ox, oy) = (o[0] as usize, o[1] as usize);
+    let on_edge = (ox - 1..=ox + 1)
+        .flat_map(|x| (oy - 1..=oy + 1).map(move |y| (x, y)))
+        .map(|(x, y)| brightness(pixel(&rgb, w, x, y)))
+        .min()
+        .unwrap();
+    assert!(
+        on_edge + 100 < brightness(centre),
+        "{on_edge} vs {centre:?}"
+    );
+}
+
+#[test]
+fn the_nearer_triangle_hides_the_farther_whatever_the_order() {
+    let (w, h) = (160, 120);
+    let cam = Camera::framing([[-1.0; 3], [1.0; 3]], w as f32, h as f32);
+    let near_cloth = facing_triangle(&cam, [0.0; 3], 0.5);
+    let to_eye = super::camera::normalize(super::camera::sub(cam.eye(), [0.0; 3]));
+    let far_obstacle = facing_triangle(&cam, to_eye.map(|c| -0.8 * c), 1.5);
+    // Cloth drawn after the obstacle, in front: blue at the centre.
+    let rgb = draw_scene(&cam, &near_cloth, std::slice::from_ref(&far_obstacle), w, h).unwrap();
+    let c = pixel(&rgb, w, w / 2, h / 2);
+    assert!(c[2] > c[0] + 40, "{c:?}");
+    // Cloth drawn after the obstacle, behind it: the grey obstacle stays at the centre.
+    let near_obstacle = facing_triangle(&cam, to_eye.map(|c| 0.5 * c), 1.5);
+    let far_cloth = facing_triangle(&cam, to_eye.map(|c| -0.5 * c), 0.5);
+    let rgb = draw_scene(&cam, &far_cloth, &[near_obstacle], w, h).unwrap();
+    let c = pixel(&rgb, w, w / 2, h / 2);
+    assert!(c[0].abs_diff(c[2]) < 8 && c[0] > 100, "grey: {c:?}");
+}
+
+#[test]
+fn pictures_are_deterministic_pngs_and_bad_sizes_are_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let specs = [
+        spec(ObstacleShape::Sphere {
+            center: [0.0; 3],
+            radius: 0.25,
+        }),
+        spec(ObstacleShape::Ground { height: -0.3 }),
+    ];
+    let obstacles = obstacle_meshes(&specs, dir.path()).unwrap();
+    let cloth = FrameMesh {
+        positions: vec![
+            [-0.5, -0.5, 0.3],
+            [0.5, -0.5, 0.3],
+            [0.5, 0.5, 0.3],
+            [-0.5, 0.5, 0.3],
+        ],
+        faces: vec![[0, 1, 2], [0, 2, 3]],
+    };
+    let (a, b) = (dir.path().join("a.png"), dir.path().join("b.png"));
+    render_png(&cloth, &obstacles, 120, 90, &a).unwrap();
+    render_png(&cloth, &obstacles, 120, 90, &b).unwrap();
+    let bytes = std::fs::read(&a).unwrap();
+    assert_eq!(&bytes[1..4], b"PNG");
+    assert_eq!(bytes, std::fs::read(&b).unwrap());
+    assert!(matches!(
+        render_png(&cloth, &obstacles, 0, 90, &a),
+        Err(RenderError::Size { .. })
+    ));
+    let broken = FrameMesh {
+        positions: vec![[0.0; 3]],
+        faces: vec![[0, 0, 3]],
+    };
+    assert!(matches!(
+        render_png(&broken, &[], 10, 10, &a),
+        Err(RenderError::BadFace { index: 3, .. })
+    ));
+    let rows = [
+        SnapshotRow {
+            label: "static 5x5".into(),
+            frames: vec![(0.0, cloth.clone()), (0.1, cloth.clone())],
+        },
+        SnapshotRow {
+            label: "other".into(),
+            frames: vec![(0.0, cloth.clone())],
+        },
+    ];
+    let grid = dir.path().join("grid.png");
+    snapshot_grid(&rows, &obstacles, &grid).unwrap();
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&grid).unwrap()));
+    let reader = decoder.read_info().unwrap();
+    assert_eq!(reader.info().height, 30 + 2 * 270);
+}
