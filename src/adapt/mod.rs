@@ -12,7 +12,9 @@ pub mod criteria;
 mod transfer;
 
 pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
-pub use transfer::{apply_edit, apply_edit_with, restore_kinetic_energy, Transfer, TransferOptions};
+pub use transfer::{
+    apply_edit, apply_edit_with, restore_kinetic_energy, Transfer, TransferOptions,
+};
 
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;

@@ -14,8 +14,8 @@
 //! differ by at most one level" property is specific to 4-8 compatible meshes
 //! ([`Labels::is_four_eight`]).
 
-use crate::mesh::{EdgeKey, FaceId, Mesh, VertexId, VertexKey};
 use crate::math::Real;
+use crate::mesh::{EdgeKey, FaceId, Mesh, VertexId, VertexKey};
 
 /// What a face knows about its place in the bisection hierarchy.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

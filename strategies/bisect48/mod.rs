@@ -19,4 +19,6 @@ pub use ops::{Bisection, ClothTarget, EditTarget, OpError};
 pub use strategy::Bisect48;
 
 #[cfg(test)]
+mod strategy_tests;
+#[cfg(test)]
 mod tests;

@@ -26,7 +26,7 @@ use crate::adapt::{apply_edit_with, AdaptReport, TransferOptions};
 use crate::cloth::Cloth;
 use crate::math::signed_area;
 use crate::mesh::{
-    Edit, EditError, EditRecord, EdgeKey, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef,
+    EdgeKey, Edit, EditError, EditRecord, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef,
 };
 
 /// Where the operations apply their edits.
@@ -76,7 +76,9 @@ pub enum OpError {
     #[error("face {0:?} is not a live labelled face")]
     UnknownFace(FaceId),
     /// The cascade would take a face beyond the maximum level.
-    #[error("bisecting face {face:?} needs a face at level {level} bisected, the maximum is {max}")]
+    #[error(
+        "bisecting face {face:?} needs a face at level {level} bisected, the maximum is {max}"
+    )]
     MaxLevel {
         /// The face asked for.
         face: FaceId,
@@ -133,11 +135,7 @@ impl Bisection {
 impl Labels {
     /// Bisects face `t`, first bisecting the blocks its cascade forces (MODEL.md §8.4 rules 3-4).
     /// On error the mesh and the labels are unchanged.
-    pub fn bisect(
-        &mut self,
-        target: &mut dyn EditTarget,
-        t: FaceId,
-    ) -> Result<Bisection, OpError> {
+    pub fn bisect(&mut self, target: &mut dyn EditTarget, t: FaceId) -> Result<Bisection, OpError> {
         let chain = self.plan_cascade(target.mesh(), t)?;
         let mut done = Bisection::default();
         for &f in chain.iter().rev() {
@@ -285,12 +283,7 @@ impl Labels {
         p: VertexId,
     ) -> Result<Vec<([VertexId; 3], u32)>, OpError> {
         self.ensure_current(mesh)?;
-        let no = |reason| {
-            Err(OpError::NotMergeable {
-                vertex: p,
-                reason,
-            })
-        };
+        let no = |reason| Err(OpError::NotMergeable { vertex: p, reason });
         if !mesh.is_vertex(p) {
             return no("not a live vertex");
         }
@@ -356,7 +349,11 @@ impl Labels {
 
     /// Merges vertex `p`: fuses the children of the bisection that inserted it back into their
     /// parents (MODEL.md §8.4 rule 5). On error the mesh and the labels are unchanged.
-    pub fn merge(&mut self, target: &mut dyn EditTarget, p: VertexId) -> Result<EditRecord, OpError> {
+    pub fn merge(
+        &mut self,
+        target: &mut dyn EditTarget,
+        p: VertexId,
+    ) -> Result<EditRecord, OpError> {
         let mesh = target.mesh();
         let parents = self.merge_plan(mesh, p)?;
         let edit = Edit {

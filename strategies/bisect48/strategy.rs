@@ -23,8 +23,8 @@
 
 use super::labels::Labels;
 use super::ops::{ClothTarget, OpError};
-use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
 use crate::adapt::TransferOptions;
+use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
 use crate::cloth::Cloth;
 use crate::math::Real;
 use crate::mesh::{EdgeKey, Mesh, VertexId};
@@ -45,7 +45,12 @@ struct Ages<'a> {
 
 impl EdgeInfo for Ages<'_> {
     fn age(&self, edge: EdgeKey) -> Option<Real> {
-        let born = |v: VertexId| self.born.get(v.0 as usize).copied().unwrap_or(Real::NEG_INFINITY);
+        let born = |v: VertexId| {
+            self.born
+                .get(v.0 as usize)
+                .copied()
+                .unwrap_or(Real::NEG_INFINITY)
+        };
         let youngest = born(edge.0).max(born(edge.1));
         youngest.is_finite().then(|| self.now - youngest)
     }
