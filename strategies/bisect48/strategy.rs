@@ -52,7 +52,7 @@ impl EdgeInfo for Ages<'_> {
                 .unwrap_or(Real::NEG_INFINITY)
         };
         let youngest = born(edge.0).max(born(edge.1));
-        youngest.is_finite().then(|| self.now - youngest)
+        youngest.is_finite().then_some(self.now - youngest)
     }
 }
 
