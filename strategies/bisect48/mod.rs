@@ -19,6 +19,8 @@ pub use ops::{Bisection, ClothTarget, EditTarget, OpError};
 pub use strategy::Bisect48;
 
 #[cfg(test)]
+mod proptests;
+#[cfg(test)]
 mod strategy_tests;
 #[cfg(test)]
 mod tests;

@@ -1,21 +1,16 @@
-//! Tests of the 4-8 operations: unit tests of block bisection, cascades, merges and refusals, and
-//! property tests driving random sequences of `bisect(t)` / `merge(v)` on random union-jack grids,
-//! checking after every operation conformity, levels, labels, rest geometry, and (through the
-//! state-transfer service) mass, momentum and kinetic energy.
+//! Unit tests of the 4-8 operations (block bisection, cascades, merges, refusals, rollback) and
+//! the helpers shared with the property tests (`proptests.rs`): the invariant checker and edit
+//! targets that check or refuse edits.
 use super::*;
-use crate::adapt::AdaptReport;
-use crate::adapt::TransferOptions;
-use crate::cloth::Cloth;
-use crate::math::{Real, Vec3};
+use crate::math::Real;
 use crate::mesh::{union_jack, Edit, EditError, EditRecord, FaceId, Mesh, VertexId};
-use crate::scene::{ForcesSpec, MaterialSpec};
 use proptest::prelude::*;
 use std::collections::BTreeSet;
 
 // ----- helpers -----
 
 /// A union-jack grid of `cx` x `cy` cells of `cell` x `cell * aspect` m.
-fn grid(cx: usize, cy: usize, aspect: Real) -> Mesh {
+pub(super) fn grid(cx: usize, cy: usize, aspect: Real) -> Mesh {
     let cell = 0.25;
     union_jack(
         cx + 1,
@@ -26,7 +21,7 @@ fn grid(cx: usize, cy: usize, aspect: Real) -> Mesh {
 }
 
 /// Faces as vertex triples rotated to start at their smallest id (orientation kept), sorted.
-fn face_set(m: &Mesh) -> BTreeSet<[VertexId; 3]> {
+pub(super) fn face_set(m: &Mesh) -> BTreeSet<[VertexId; 3]> {
     m.faces()
         .map(|f| {
             let vs = m.face(f);
@@ -37,7 +32,7 @@ fn face_set(m: &Mesh) -> BTreeSet<[VertexId; 3]> {
 }
 
 /// Live vertices with their rest coordinates.
-fn vertex_set(m: &Mesh) -> Vec<(VertexId, [Real; 2])> {
+pub(super) fn vertex_set(m: &Mesh) -> Vec<(VertexId, [Real; 2])> {
     m.vertices()
         .map(|v| (v, [m.rest(v).x, m.rest(v).y]))
         .collect()
@@ -47,7 +42,12 @@ fn vertex_set(m: &Mesh) -> Vec<(VertexId, [Real; 2])> {
 /// conformity, current labels, refinement edge opposite the newest vertex and (square cells)
 /// strictly the longest edge, rest area halved per level, neighbours within one level, and on
 /// square cells rest angles of 45/45/90 degrees.
-fn check_invariants(m: &Mesh, l: &Labels, cell_area: Real, square: bool) -> Result<(), String> {
+pub(super) fn check_invariants(
+    m: &Mesh,
+    l: &Labels,
+    cell_area: Real,
+    square: bool,
+) -> Result<(), String> {
     m.check().map_err(|e| format!("conformity: {e}"))?;
     l.check(m).map_err(|e| e.to_string())?;
     for f in m.faces() {
@@ -99,10 +99,10 @@ fn check_invariants(m: &Mesh, l: &Labels, cell_area: Real, square: bool) -> Resu
 }
 
 /// An edit target that checks conformity after every elementary edit.
-struct Checked<T> {
-    inner: T,
-    failures: Vec<String>,
-    edits: usize,
+pub(super) struct Checked<T> {
+    pub(super) inner: T,
+    pub(super) failures: Vec<String>,
+    pub(super) edits: usize,
 }
 
 impl<T: EditTarget> EditTarget for Checked<T> {
@@ -145,7 +145,7 @@ impl EditTarget for Refusing<'_> {
 }
 
 /// Merges every mergeable vertex, repeatedly, until none is left.
-fn merge_all(target: &mut dyn EditTarget, l: &mut Labels) -> Result<usize, String> {
+pub(super) fn merge_all(target: &mut dyn EditTarget, l: &mut Labels) -> Result<usize, String> {
     let mut merged = 0;
     loop {
         let ready = l.mergeable_vertices(target.mesh());
@@ -162,7 +162,7 @@ fn merge_all(target: &mut dyn EditTarget, l: &mut Labels) -> Result<usize, Strin
 }
 
 /// The face of `m` with the given corner ids (in any rotation).
-fn find_face(m: &Mesh, vs: [u32; 3]) -> FaceId {
+pub(super) fn find_face(m: &Mesh, vs: [u32; 3]) -> FaceId {
     m.faces()
         .find(|&f| {
             let mut a = m.face(f).map(|v| v.0);
@@ -174,7 +174,7 @@ fn find_face(m: &Mesh, vs: [u32; 3]) -> FaceId {
         .expect("face exists")
 }
 
-fn config(cases: u32) -> ProptestConfig {
+pub(super) fn config(cases: u32) -> ProptestConfig {
     let cases = std::env::var("PROPTEST_CASES")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -418,169 +418,4 @@ fn longest_edge_labelling_refines_a_disk_conformingly() {
     }
     merge_all(&mut m, &mut l).unwrap();
     assert_eq!(face_set(&m), initial);
-}
-
-// ----- property tests -----
-
-/// One random operation: `kind` < 6 bisects face `pick`; otherwise merges a mergeable vertex
-/// (kind 6-8) or tries an arbitrary vertex (kind 9), which must fail cleanly when not mergeable.
-fn random_op(
-    target: &mut dyn EditTarget,
-    l: &mut Labels,
-    kind: u8,
-    pick: u32,
-) -> Result<(), TestCaseError> {
-    let m = target.mesh();
-    if kind < 6 {
-        let f = m.faces().nth(pick as usize % m.face_count()).unwrap();
-        let (m0, l0) = (m.clone(), l.clone());
-        match l.bisect(target, f) {
-            Ok(done) => prop_assert!(!done.steps.is_empty()),
-            Err(OpError::MaxLevel { .. }) => {
-                prop_assert!(*target.mesh() == m0, "refused bisection changed the mesh");
-                prop_assert!(*l == l0, "refused bisection changed the labels");
-            }
-            Err(e) => return Err(TestCaseError::fail(format!("bisect {f:?}: {e}"))),
-        }
-        return Ok(());
-    }
-    let ready = l.mergeable_vertices(m);
-    let v = if kind < 9 && !ready.is_empty() {
-        ready[pick as usize % ready.len()]
-    } else {
-        m.vertices().nth(pick as usize % m.vertex_count()).unwrap()
-    };
-    let (m0, l0) = (m.clone(), l.clone());
-    let mergeable = ready.contains(&v);
-    match l.merge(target, v) {
-        Ok(rec) => {
-            prop_assert!(mergeable, "merged {v:?} not listed as mergeable");
-            prop_assert_eq!(rec.removed_vertices, vec![v]);
-        }
-        Err(OpError::NotMergeable { .. }) => {
-            prop_assert!(!mergeable, "mergeable {v:?} refused");
-            prop_assert!(*target.mesh() == m0, "refused merge changed the mesh");
-            prop_assert!(*l == l0, "refused merge changed the labels");
-        }
-        Err(e) => return Err(TestCaseError::fail(format!("merge {v:?}: {e}"))),
-    }
-    Ok(())
-}
-
-proptest! {
-    #![proptest_config(config(24))]
-
-    /// Random grids (2x2 to 8x8 cells, square or not), 200+ random bisect/merge operations:
-    /// every invariant after every operation (conformity also after every elementary edit of a
-    /// cascade); merging everything mergeable then returns the initial mesh and labels.
-    #[test]
-    fn bisect48_random_operations_keep_every_invariant(
-        cx in 2usize..=8,
-        cy in 2usize..=8,
-        square in any::<bool>(),
-        max_level in 3u32..=6,
-        ops in proptest::collection::vec((0u8..10, any::<u32>()), 200..=240),
-    ) {
-        let aspect = if square { 1.0 } else { 0.6 };
-        let mesh = grid(cx, cy, aspect);
-        let cell_area = 0.0625 * aspect;
-        let (faces0, verts0) = (face_set(&mesh), vertex_set(&mesh));
-        let area0 = mesh.pattern_area();
-        let mut l = Labels::new(&mesh, max_level);
-        let labels0 = l.clone();
-        let mut target = Checked { inner: mesh, failures: Vec::new(), edits: 0 };
-        for (i, (kind, pick)) in ops.into_iter().enumerate() {
-            random_op(&mut target, &mut l, kind, pick)?;
-            prop_assert!(target.failures.is_empty(), "op {i}: {:?}", target.failures);
-            let m = &target.inner;
-            if let Err(e) = check_invariants(m, &l, cell_area, square) {
-                return Err(TestCaseError::fail(format!("op {i}: {e}")));
-            }
-            let area: Real = m.faces().map(|f| m.face_rest_area(f)).sum();
-            prop_assert!((area - area0).abs() <= 1e-12 * area0, "op {i}: area {area} vs {area0}");
-        }
-        merge_all(&mut target, &mut l).map_err(TestCaseError::fail)?;
-        prop_assert!(target.failures.is_empty(), "{:?}", target.failures);
-        let m = &target.inner;
-        prop_assert_eq!(face_set(m), faces0);
-        prop_assert_eq!(vertex_set(m), verts0);
-        // The labels are the initial ones again (face slots may differ: compare per triple).
-        for f in m.faces() {
-            let g = labels0_face(&labels0, &grid(cx, cy, aspect), m.face(f));
-            prop_assert_eq!(l.label(m, f), Some(g));
-        }
-    }
-
-    /// The same random operations on a cloth through the state-transfer service: total mass and
-    /// rest area unchanged (1e-12), linear momentum unchanged (1e-12), the recorded kinetic-energy
-    /// changes add up to the actual change, and with `restore_energy` the kinetic energy is
-    /// unchanged (1e-9).
-    #[test]
-    fn bisect48_transfer_conserves_mass_momentum_and_energy(
-        cx in 2usize..=8,
-        cy in 2usize..=8,
-        restore_energy in any::<bool>(),
-        seed in any::<u64>(),
-        ops in proptest::collection::vec((0u8..10, any::<u32>()), 200..=220),
-    ) {
-        let mesh = grid(cx, cy, 1.0);
-        let mut rng = seed | 1;
-        let mut next = move || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 11) as Real / (1u64 << 53) as Real - 0.5
-        };
-        let x: Vec<Vec3> = mesh
-            .vertices()
-            .map(|v| {
-                let p = mesh.rest(v);
-                Vec3::new(p.x, p.y, 0.05 * next())
-            })
-            .collect();
-        let mut cloth = Cloth::new(mesh, x, Vec3::zeros(), &MaterialSpec::default(), &ForcesSpec::default());
-        for v in cloth.mesh.vertices().collect::<Vec<_>>() {
-            cloth.v[v.0 as usize] = Vec3::new(0.3 + next(), -0.2 + next(), 1.0 + next());
-        }
-        let mut l = Labels::new(&cloth.mesh, 5);
-        let (m0, p0, e0) = (cloth.model.total_mass(), cloth.linear_momentum(), cloth.kinetic_energy());
-        let area0 = cloth.mesh.pattern_area();
-        let mut recorded = 0.0;
-        let options = TransferOptions { obstacles: None, restore_momentum: true, restore_energy };
-        for (i, (kind, pick)) in ops.into_iter().enumerate() {
-            let mut target = Checked {
-                inner: ClothTarget { cloth: &mut cloth, options, report: AdaptReport::default() },
-                failures: Vec::new(),
-                edits: 0,
-            };
-            random_op(&mut target, &mut l, kind, pick)?;
-            prop_assert!(target.failures.is_empty(), "op {i}: {:?}", target.failures);
-            recorded += target.inner.report.kinetic_energy_change;
-            cloth.refresh();
-            let m = &cloth.mesh;
-            if let Err(e) = check_invariants(m, &l, 0.0625, true) {
-                return Err(TestCaseError::fail(format!("op {i}: {e}")));
-            }
-            let area: Real = m.faces().map(|f| m.face_rest_area(f)).sum();
-            prop_assert!((area - area0).abs() <= 1e-12 * area0, "op {i}: area");
-            let mass = cloth.model.total_mass();
-            prop_assert!((mass - m0).abs() <= 1e-12 * m0, "op {i}: mass {m0} -> {mass}");
-            let p = cloth.linear_momentum();
-            prop_assert!((p - p0).norm() <= 1e-12 * p0.norm(), "op {i}: momentum {p0} -> {p}");
-            let e = cloth.kinetic_energy();
-            prop_assert!(
-                (e - e0 - recorded).abs() <= 1e-12 * e0,
-                "op {i}: energy change {} but recorded {recorded}", e - e0
-            );
-            if restore_energy {
-                prop_assert!((e - e0).abs() <= 1e-9 * e0, "op {i}: energy {e0} -> {e}");
-            }
-        }
-    }
-}
-
-/// The initial label of the face with corners `vs` on a fresh grid.
-fn labels0_face(l0: &Labels, m0: &Mesh, vs: [VertexId; 3]) -> FaceLabel {
-    let f = find_face(m0, vs.map(|v| v.0));
-    l0.label(m0, f).expect("initial face labelled")
 }
