@@ -12,7 +12,9 @@ pub mod criteria;
 mod transfer;
 
 pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
-pub use transfer::{apply_edit, Transfer};
+pub use transfer::{
+    apply_edit, apply_edit_with, restore_kinetic_energy, Transfer, TransferOptions,
+};
 
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
@@ -62,6 +64,14 @@ pub enum AdaptError {
     /// A mesh edit was refused.
     #[error("mesh edit refused: {0}")]
     Edit(#[from] EditError),
+    /// The strategy cannot go on (its own bookkeeping failed or the mesh does not suit it).
+    #[error("{strategy}: {reason}")]
+    Strategy {
+        /// The strategy's name.
+        strategy: &'static str,
+        /// What went wrong.
+        reason: String,
+    },
 }
 
 /// A mesh-adaptivity strategy. Contract (MODEL.md §6): the mesh is conforming after every

@@ -16,6 +16,19 @@ pub struct Transfer {
     pub kinetic_energy_change: Real,
 }
 
+/// How [`apply_edit_with`] transfers state.
+#[derive(Clone, Copy, Default)]
+pub struct TransferOptions<'a> {
+    /// Push new vertices out of these obstacles. Default none.
+    pub obstacles: Option<&'a Obstacles>,
+    /// Restore the touched vertices' linear momentum by a uniform velocity correction. Default
+    /// off here; scenes turn it on by default (`adaptivity.restore_momentum`).
+    pub restore_momentum: bool,
+    /// Restore the touched vertices' kinetic energy by the momentum-neutral correction of
+    /// [`restore_kinetic_energy`] (MODEL.md §8.4 rule 6). Default off.
+    pub restore_energy: bool,
+}
+
 /// Applies `edit` to the cloth (MODEL.md §6): the mesh edit is checked (the cloth is untouched on
 /// error); new vertices take `x`, `v` interpolated from their origin; with `obstacles`, new vertices
 /// inside an obstacle are pushed out; masses and drag of every touched vertex are recomputed; with
@@ -27,6 +40,30 @@ pub fn apply_edit(
     obstacles: Option<&Obstacles>,
     restore_momentum: bool,
 ) -> Result<Transfer, EditError> {
+    apply_edit_with(
+        cloth,
+        edit,
+        &TransferOptions {
+            obstacles,
+            restore_momentum,
+            restore_energy: false,
+        },
+    )
+}
+
+/// [`apply_edit`] with every option, including the kinetic-energy restoration: after the momentum
+/// correction, [`restore_kinetic_energy`] gives the touched vertices back the kinetic energy they
+/// had before the edit without changing their momentum (when their velocities allow it).
+pub fn apply_edit_with(
+    cloth: &mut Cloth,
+    edit: &Edit,
+    options: &TransferOptions,
+) -> Result<Transfer, EditError> {
+    let TransferOptions {
+        obstacles,
+        restore_momentum,
+        restore_energy,
+    } = *options;
     // Old vertices whose mass changes: every vertex of a removed face.
     let mut touched: Vec<VertexId> = edit
         .remove
@@ -79,12 +116,58 @@ pub fn apply_edit(
             momentum_after = momentum_and_energy(cloth, &touched).0;
         }
     }
+    if restore_energy {
+        restore_kinetic_energy(cloth, &touched, energy_before);
+    }
     let energy_after = momentum_and_energy(cloth, &touched).1;
     Ok(Transfer {
         record,
         momentum_change: (momentum_before - momentum_after).norm(),
         kinetic_energy_change: energy_after - energy_before,
     })
+}
+
+/// Sets the kinetic energy of `vertices` to `target` (J) without changing their linear momentum
+/// (MODEL.md §8.4 rule 6): the velocities of the movable ones relative to their mass-weighted mean
+/// `v_mean` are scaled, `v_i <- v_mean + s (v_i - v_mean)`, which keeps `sum m_i v_i` exactly and
+/// moves the energy of the relative motion to `target - |p|² / 2M`. Pinned vertices (zero inverse
+/// mass) are not changed. For a split this is the "equal and opposite relative velocity" of the
+/// rule spread over the touched region; it works the same for merges and re-meshed regions.
+/// Returns false (and changes nothing) when it cannot: no movable mass, no relative motion to
+/// scale, or a target below the energy of the mean motion.
+pub fn restore_kinetic_energy(cloth: &mut Cloth, vertices: &[VertexId], target: Real) -> bool {
+    let inv = cloth.model.inv_mass();
+    let mass = cloth.model.mass();
+    let movable: Vec<usize> = vertices
+        .iter()
+        .map(|v| v.0 as usize)
+        .filter(|&i| inv.get(i).copied().unwrap_or(0.0) > 0.0)
+        .collect();
+    let total_mass: Real = movable.iter().map(|&i| mass[i]).sum();
+    if total_mass <= 0.0 {
+        return false;
+    }
+    let momentum: Vec3 = movable.iter().map(|&i| cloth.v[i] * mass[i]).sum();
+    let mean = momentum / total_mass;
+    let relative: Real = movable
+        .iter()
+        .map(|&i| 0.5 * mass[i] * (cloth.v[i] - mean).norm_squared())
+        .sum();
+    let fixed: Real = vertices
+        .iter()
+        .map(|v| v.0 as usize)
+        .filter(|&i| inv.get(i).copied().unwrap_or(0.0) <= 0.0)
+        .map(|i| 0.5 * mass.get(i).copied().unwrap_or(0.0) * cloth.v[i].norm_squared())
+        .sum();
+    let wanted = target - fixed - 0.5 * total_mass * mean.norm_squared();
+    if !(relative > 0.0 && wanted >= 0.0 && wanted.is_finite()) {
+        return false;
+    }
+    let s = (wanted / relative).sqrt();
+    for &i in &movable {
+        cloth.v[i] = mean + (cloth.v[i] - mean) * s;
+    }
+    true
 }
 
 /// World position and velocity interpolated at a new vertex's origin.

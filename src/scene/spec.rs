@@ -367,6 +367,10 @@ pub struct AdaptivitySpec {
     /// Restore the linear momentum of a re-meshed region by a uniform velocity correction.
     /// Default on.
     pub restore_momentum: bool,
+    /// Restore the kinetic energy an edit loses by averaging velocities with the momentum-neutral
+    /// correction of MODEL.md §8.4 rule 6 (velocities of the touched vertices relative to their
+    /// mean scaled; `adapt::restore_kinetic_energy`). Used by `bisect48`. Default off.
+    pub restore_energy: bool,
     /// Compression criterion `c`: refine when `L / L_rest < c`. Default 0.70.
     pub compression_c: Real,
     /// Curvature: refine when the cosine between end normals is below this. Default 0.97.
@@ -404,6 +408,7 @@ impl Default for AdaptivitySpec {
         AdaptivitySpec {
             strategy: "static".into(),
             restore_momentum: true,
+            restore_energy: false,
             compression_c: 0.70,
             cos_refine: 0.97,
             cos_simplify: 0.999995,

@@ -1,0 +1,176 @@
+//! The `bisect48` strategy: the shared criteria of MODEL.md §7 mapped onto the operations of
+//! `ops.rs`.
+//!
+//! Each call of [`Adaptivity::adapt`]:
+//! 1. (first call only) labels the mesh by its longest edges (`labels.rs`); the maximum level is
+//!    `2 max_depth` (two bisections make one 1-to-4 quadrisection).
+//! 2. Evaluates the criteria once ([`crate::adapt::select`]), with edge ages from the vertex birth
+//!    times: an edge's age is the time since its youngest end was inserted (the edges around an
+//!    inserted vertex are exactly those its bisection created).
+//! 3. **Refine**, edges in key order, skipping those already gone: an edge that is the refinement
+//!    edge of an adjacent face is bisected (`bisect(t)` of that face, with its cascade); an edge
+//!    that is a leg of both its faces gets both faces bisected, which makes it the refinement
+//!    edge of the children, so it is split by a later call if it is still selected. A cascade
+//!    that would pass the maximum level is skipped.
+//! 4. **Simplify**: every vertex inserted by bisection, in slot order, is merged when it is
+//!    mergeable (rule 5) and every edge around it is selected for simplification.
+//!
+//! Hysteresis: the criteria's refine and simplify thresholds differ (`cos_refine` vs
+//! `cos_simplify`, compression refines and never simplifies), a vertex is merged only when all of
+//! its edges are simplify-selected and at least `t_simplify` old, and refined edges are never
+//! simplify-selected in the same call. The transfer is `adapt::apply_edit_with` with
+//! `restore_momentum` and `restore_energy` from the scene.
+
+use super::labels::Labels;
+use super::ops::{ClothTarget, OpError};
+use crate::adapt::TransferOptions;
+use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
+use crate::cloth::Cloth;
+use crate::math::Real;
+use crate::mesh::{EdgeKey, Mesh, VertexId};
+
+/// Newest-vertex bisection on the 4-8 mesh (MODEL.md §8.4).
+#[derive(Clone, Debug, Default)]
+pub struct Bisect48 {
+    labels: Option<Labels>,
+    /// Simulated time (s) each vertex slot's vertex was inserted; `-inf` for initial vertices.
+    born: Vec<Real>,
+}
+
+/// Edge ages seen by the criteria: time since the youngest end of the edge was inserted.
+struct Ages<'a> {
+    born: &'a [Real],
+    now: Real,
+}
+
+impl EdgeInfo for Ages<'_> {
+    fn age(&self, edge: EdgeKey) -> Option<Real> {
+        let born = |v: VertexId| {
+            self.born
+                .get(v.0 as usize)
+                .copied()
+                .unwrap_or(Real::NEG_INFINITY)
+        };
+        let youngest = born(edge.0).max(born(edge.1));
+        youngest.is_finite().then_some(self.now - youngest)
+    }
+}
+
+impl Bisect48 {
+    /// A strategy that labels the mesh on its first call.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The labels, once the first call made them.
+    pub fn labels(&self) -> Option<&Labels> {
+        self.labels.as_ref()
+    }
+
+    fn error(reason: impl ToString) -> AdaptError {
+        AdaptError::Strategy {
+            strategy: "bisect48",
+            reason: reason.to_string(),
+        }
+    }
+
+    /// Labels the mesh on the first call; afterwards checks the labels still describe it.
+    fn prepare(&mut self, mesh: &Mesh, max_level: u32) -> Result<(), AdaptError> {
+        match &self.labels {
+            None => {
+                self.labels = Some(Labels::new(mesh, max_level));
+                self.born = vec![Real::NEG_INFINITY; mesh.vertex_slots()];
+                Ok(())
+            }
+            Some(l) => l.ensure_current(mesh).map_err(Self::error),
+        }
+    }
+}
+
+impl Adaptivity for Bisect48 {
+    fn name(&self) -> &'static str {
+        "bisect48"
+    }
+
+    fn adapt(&mut self, cloth: &mut Cloth, ctx: &AdaptContext) -> Result<AdaptReport, AdaptError> {
+        let spec = ctx.spec;
+        self.prepare(&cloth.mesh, 2 * spec.max_depth)?;
+        let selection = select(
+            cloth,
+            ctx.obstacles,
+            spec,
+            &Ages {
+                born: &self.born,
+                now: ctx.time,
+            },
+        );
+        let Some(labels) = self.labels.as_mut() else {
+            return Ok(AdaptReport::default());
+        };
+        let mut target = ClothTarget {
+            cloth,
+            options: TransferOptions {
+                obstacles: Some(ctx.obstacles),
+                restore_momentum: spec.restore_momentum,
+                restore_energy: spec.restore_energy,
+            },
+            report: AdaptReport::default(),
+        };
+
+        // Refinement.
+        for &(e, _) in &selection.refine {
+            let mesh = &target.cloth.mesh;
+            let Some(faces) = mesh.edge(e.0, e.1) else {
+                continue; // split earlier in this call
+            };
+            let faces: Vec<_> = faces.iter().collect();
+            let owner = faces
+                .iter()
+                .copied()
+                .find(|&f| labels.refinement_edge(mesh, f) == Some(e));
+            let to_bisect = owner.map_or(faces, |f| vec![f]);
+            for f in to_bisect {
+                if !target.cloth.mesh.is_face(f) {
+                    continue; // bisected by the cascade of the other face
+                }
+                match labels.bisect(&mut target, f) {
+                    Ok(done) => {
+                        for v in done.new_vertices() {
+                            let i = v.0 as usize;
+                            if self.born.len() <= i {
+                                self.born.resize(i + 1, Real::NEG_INFINITY);
+                            }
+                            self.born[i] = ctx.time;
+                        }
+                    }
+                    Err(OpError::MaxLevel { .. }) => {}
+                    Err(other) => return Err(Self::error(other)),
+                }
+            }
+        }
+
+        // Simplification.
+        let simplify = &selection.simplify;
+        let candidates: Vec<VertexId> = target
+            .cloth
+            .mesh
+            .vertices()
+            .filter(|&v| labels.split_origin(&target.cloth.mesh, v).is_some())
+            .collect();
+        for p in candidates {
+            let mesh = &target.cloth.mesh;
+            if !mesh.is_vertex(p) || !labels.is_mergeable(mesh, p) {
+                continue;
+            }
+            let all_selected = mesh
+                .neighbours(p)
+                .into_iter()
+                .all(|w| simplify.binary_search(&EdgeKey::new(p, w)).is_ok());
+            if !all_selected {
+                continue;
+            }
+            labels.merge(&mut target, p).map_err(Self::error)?;
+        }
+        Ok(target.report)
+    }
+}
