@@ -51,7 +51,10 @@ fn steady_state_steps_do_not_allocate() {
         let allocated = ALLOCATIONS.load(Ordering::Relaxed) - before;
         assert_eq!(allocated, 0, "{name}: {allocated} allocations in 200 steps");
         if name != "hanging" {
-            assert!(contacts > 0, "{name}: the test meant to exercise contacts saw none");
+            assert!(
+                contacts > 0,
+                "{name}: the test meant to exercise contacts saw none"
+            );
         }
     }
 }

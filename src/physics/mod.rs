@@ -12,6 +12,7 @@
 mod elements;
 mod forces;
 mod integrator;
+mod limits;
 
 #[cfg(test)]
 mod tests;

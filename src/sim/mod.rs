@@ -97,6 +97,8 @@ pub struct Simulation {
     locator: RestLocator,
     contact_seen: bool,
     x_start: Vec<Vec3>,
+    /// `ForceModel::damping_step_limit` (s) and the mesh version it was computed for.
+    damping_limit: (u64, Real),
     /// Wall time per stage.
     pub stage_times: StageTimes,
 }
@@ -143,6 +145,7 @@ impl Simulation {
             locator,
             contact_seen: false,
             x_start: Vec::new(),
+            damping_limit: (u64::MAX, Real::INFINITY),
             stage_times: StageTimes::default(),
         })
     }
@@ -159,14 +162,18 @@ impl Simulation {
 
     /// The step the next call of [`Simulation::step`] will take (s), MODEL.md §4: fixed, or
     /// `beta pi sqrt(m_min / k_max)` clamped to `[dt_min, dt_max]`, with `dt_initial` until the
-    /// first contact.
+    /// first contact. The seed's fixed `dt_initial` ignores the mesh: it is capped by the spring
+    /// damping's stability limit ([`ForceModel::damping_step_limit`], see docs/model-notes.md),
+    /// without which `dt_initial = 1e-4` diverges on grids of 33 x 33 and finer.
+    ///
+    /// [`ForceModel::damping_step_limit`]: crate::physics::ForceModel::damping_step_limit
     pub fn next_dt(&self) -> Real {
         let time = &self.scene.time;
         if time.mode == TimeMode::Fixed {
             return time.dt;
         }
         if time.dt_initial > 0.0 && !self.contact_seen {
-            return time.dt_initial;
+            return time.dt_initial.min(self.damping_limit.1);
         }
         let mut dt = self.cloth.model.stable_step(time.beta);
         if time.dt_max > 0.0 {
@@ -181,6 +188,12 @@ impl Simulation {
     /// One step: integrate, collide, adapt. The step is cut so the run ends exactly at
     /// `duration`. Allocation-free in steady state (no mesh change).
     pub fn step(&mut self) -> Result<StepReport, StepError> {
+        if self.damping_limit.0 != self.cloth.mesh.version() {
+            self.damping_limit = (
+                self.cloth.mesh.version(),
+                self.cloth.model.damping_step_limit(),
+            );
+        }
         let dt = self
             .next_dt()
             .min(self.scene.time.duration - self.t)
