@@ -121,6 +121,7 @@ fn run(args: RunArgs) -> ExitCode {
         progress: !args.quiet && std::io::stderr().is_terminal(),
         interrupt: Some(interrupt),
         source: loaded.source.clone(),
+        ..RunOptions::default()
     };
     eprintln!(
         "adaptcloth: {} ({}), strategy {}, integrator {}, {} vertices, {} s -> {}",
