@@ -17,11 +17,13 @@
 //! - [`strategies`]: one module per adaptivity strategy.
 //! - [`sim`]: the step loop and the run driver.
 //! - [`output`]: frames, metrics, summaries.
+//! - [`eval`]: error metrics against a cached reference, comparisons, plots and reports.
 #![warn(missing_docs)]
 
 pub mod adapt;
 pub mod cloth;
 pub mod collision;
+pub mod eval;
 pub mod math;
 pub mod mesh;
 pub mod output;
