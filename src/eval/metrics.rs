@@ -6,13 +6,15 @@
 //!   time to the run's sample time (its own frames bracket it).
 //! - `e_rms`: RMS of `e(t)` over the run's frames; `e_final`: `e` at the last frame.
 //! - tracked error: RMS over frames and tracked points of the tracked points' distance.
-//! - Hausdorff: two-sided Hausdorff distance between the final surfaces, approximated on point
-//!   sets: each surface is represented by its dense material-point samples plus its mesh vertices.
-//!   Since both sets lie on their surfaces, the point-set value differs from the exact surface
-//!   distance by at most the covering radius of the sample sets (about half a sample spacing
-//!   times the local stretch: 1/126 of the pattern side for the default 64x64 grid), which is
-//!   below the error floor of the reference; folds that end up in a different place but cover the
-//!   same shape score low, unlike `e`.
+//! - Hausdorff: two-sided Hausdorff distance between the final surfaces, fold-pattern-insensitive
+//!   (folds that end up in a different place but cover the same shape score low, unlike `e`).
+//!   Approximation: each surface is represented by the triangulation of its final material-point
+//!   grid (64x64 by default; the grid samples lie on the surface, so this is the surface up to
+//!   the chord error of one sample spacing, about `h^2 kappa / 8` for curvature `kappa`), and the
+//!   distance is taken from the points of each side (grid samples and mesh vertices) to the other
+//!   side's triangulation. Identical surfaces score 0 whatever their meshes. Without a complete
+//!   sample grid (a non-rectangular pattern), it falls back to the point-set distance, which
+//!   overestimates by up to the samples' covering radius.
 
 use crate::sim::Trajectory;
 
@@ -116,7 +118,7 @@ pub fn compare(run: &Trajectory, reference: &Trajectory) -> Result<ErrorReport, 
     } else {
         (tracked_sq / (tracked * run.frames()) as f64).sqrt()
     };
-    let hausdorff = hausdorff(&final_surface_points(run), &final_surface_points(reference));
+    let hausdorff = surface_hausdorff(run, reference);
     Ok(ErrorReport {
         e_t,
         e_rms,
@@ -151,6 +153,131 @@ fn final_surface_points(t: &Trajectory) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// Triangles of a complete `side x side` sample grid (row-major), skipping any with a NaN corner.
+fn grid_triangles(points: &[[f64; 3]], side: usize) -> Vec<[[f64; 3]; 3]> {
+    let mut tris = Vec::with_capacity(2 * side.saturating_sub(1).pow(2));
+    let ok = |p: &[f64; 3]| p.iter().all(|c| c.is_finite());
+    for j in 0..side.saturating_sub(1) {
+        for i in 0..side - 1 {
+            let a = points[j * side + i];
+            let b = points[j * side + i + 1];
+            let c = points[(j + 1) * side + i + 1];
+            let d = points[(j + 1) * side + i];
+            for t in [[a, b, c], [a, c, d]] {
+                if t.iter().all(ok) {
+                    tris.push(t);
+                }
+            }
+        }
+    }
+    tris
+}
+
+/// Two-sided Hausdorff distance between the final surfaces of two trajectories (m): from the
+/// points of each (grid samples and vertices) to the triangulated sample grid of the other; the
+/// point-set distance when the samples are not a complete grid.
+pub fn surface_hausdorff(a: &Trajectory, b: &Trajectory) -> f64 {
+    let pa = final_surface_points(a);
+    let pb = final_surface_points(b);
+    if a.side < 2 || b.side < 2 || a.side * a.side != a.grid || b.side * b.side != b.grid {
+        return hausdorff(&pa, &pb);
+    }
+    let last = |t: &Trajectory| -> Vec<[f64; 3]> {
+        t.frame(t.frames() - 1)[..t.grid]
+            .iter()
+            .map(|p| p.map(|c| c as f64))
+            .collect()
+    };
+    let ta = grid_triangles(&last(a), a.side);
+    let tb = grid_triangles(&last(b), b.side);
+    if ta.is_empty() || tb.is_empty() {
+        return hausdorff(&pa, &pb);
+    }
+    directed_to_triangles(&pa, &tb).max(directed_to_triangles(&pb, &ta))
+}
+
+/// `max over p in points of the distance from p to the nearest triangle`.
+pub fn directed_to_triangles(points: &[[f64; 3]], tris: &[[[f64; 3]; 3]]) -> f64 {
+    if points.is_empty() {
+        return 0.0;
+    }
+    if tris.is_empty() {
+        return f64::INFINITY;
+    }
+    let grid = TriangleGrid::new(tris);
+    points
+        .iter()
+        .map(|p| grid.nearest_distance(p))
+        .fold(0.0, f64::max)
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Distance from `p` to the closed triangle `t` (Ericson, Real-Time Collision Detection, 5.1.5).
+pub fn point_triangle_distance(p: [f64; 3], t: &[[f64; 3]; 3]) -> f64 {
+    let [a, b, c] = *t;
+    let ab = sub(b, a);
+    let ac = sub(c, a);
+    let ap = sub(p, a);
+    let d1 = dot(ab, ap);
+    let d2 = dot(ac, ap);
+    let lerp = |x: [f64; 3], y: [f64; 3], w: f64| {
+        [
+            x[0] + w * (y[0] - x[0]),
+            x[1] + w * (y[1] - x[1]),
+            x[2] + w * (y[2] - x[2]),
+        ]
+    };
+    let closest = if d1 <= 0.0 && d2 <= 0.0 {
+        a
+    } else {
+        let bp = sub(p, b);
+        let d3 = dot(ab, bp);
+        let d4 = dot(ac, bp);
+        let cp = sub(p, c);
+        let d5 = dot(ab, cp);
+        let d6 = dot(ac, cp);
+        let vc = d1 * d4 - d3 * d2;
+        let vb = d5 * d2 - d1 * d6;
+        let va = d3 * d6 - d5 * d4;
+        if d3 >= 0.0 && d4 <= d3 {
+            b
+        } else if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+            lerp(a, b, d1 / (d1 - d3))
+        } else if d6 >= 0.0 && d5 <= d6 {
+            c
+        } else if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+            lerp(a, c, d2 / (d2 - d6))
+        } else if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
+            lerp(b, c, (d4 - d3) / ((d4 - d3) + (d5 - d6)))
+        } else {
+            let denom = va + vb + vc;
+            if denom.abs() < f64::MIN_POSITIVE {
+                // Degenerate triangle: nearest of its corners.
+                return [a, b, c]
+                    .iter()
+                    .map(|q| dot(sub(p, *q), sub(p, *q)).sqrt())
+                    .fold(f64::INFINITY, f64::min);
+            }
+            let v = vb / denom;
+            let w = vc / denom;
+            [
+                a[0] + ab[0] * v + ac[0] * w,
+                a[1] + ab[1] * v + ac[1] * w,
+                a[2] + ab[2] * v + ac[2] * w,
+            ]
+        }
+    };
+    let d = sub(p, closest);
+    dot(d, d).sqrt()
+}
+
 /// Two-sided Hausdorff distance between two point sets (m): the largest distance from a point of
 /// either set to the nearest point of the other. Infinite when exactly one set is empty, 0 when
 /// both are. Uses a uniform bucket grid, so it is fast on the dense sample sets.
@@ -178,67 +305,67 @@ pub fn directed_hausdorff(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-struct PointGrid<'a> {
-    points: &'a [[f64; 3]],
+/// A uniform bucket grid over items with bounding boxes (points or triangles), searched shell by
+/// shell around a query point until no unvisited cell can hold anything closer.
+struct BucketGrid {
     lo: [f64; 3],
     cell: f64,
     dims: [usize; 3],
     start: Vec<usize>,
-    order: Vec<usize>,
+    items: Vec<usize>,
 }
 
-impl<'a> PointGrid<'a> {
-    fn new(points: &'a [[f64; 3]]) -> Self {
+impl BucketGrid {
+    fn new(boxes: &[([f64; 3], [f64; 3])]) -> Self {
         let mut lo = [f64::INFINITY; 3];
         let mut hi = [f64::NEG_INFINITY; 3];
-        for p in points {
+        for (a, b) in boxes {
             for c in 0..3 {
-                lo[c] = lo[c].min(p[c]);
-                hi[c] = hi[c].max(p[c]);
+                lo[c] = lo[c].min(a[c]);
+                hi[c] = hi[c].max(b[c]);
             }
         }
         let ext: Vec<f64> = (0..3).map(|c| (hi[c] - lo[c]).max(0.0)).collect();
-        // Cloth surfaces are two-dimensional: size cells for about one point per cell over the
+        // Cloth surfaces are two-dimensional: size cells for about one item per cell over the
         // two largest extents.
         let mut sorted = ext.clone();
         sorted.sort_by(|a, b| b.total_cmp(a));
+        let n = boxes.len().max(1) as f64;
         let diag = (ext[0] * ext[0] + ext[1] * ext[1] + ext[2] * ext[2]).sqrt();
-        let cell = (sorted[0] * sorted[1] / points.len() as f64)
-            .sqrt()
-            .max(diag / points.len() as f64)
-            .max(1e-9);
-        let dims = [0, 1, 2].map(|c| ((ext[c] / cell) as usize + 1).min(1024));
-        let index = |p: &[f64; 3]| -> usize {
-            let i = [0, 1, 2].map(|c| (((p[c] - lo[c]) / cell) as usize).min(dims[c] - 1));
-            (i[2] * dims[1] + i[1]) * dims[0] + i[0]
-        };
+        let cell = (sorted[0] * sorted[1] / n).sqrt().max(diag / n).max(1e-9);
+        let dims = [0, 1, 2].map(|c| ((ext[c] / cell) as usize + 1).min(512));
+        let idx = |x: f64, c: usize| (((x - lo[c]) / cell).max(0.0) as usize).min(dims[c] - 1);
         let ncells = dims[0] * dims[1] * dims[2];
-        let mut count = vec![0usize; ncells + 1];
-        for p in points {
-            count[index(p) + 1] += 1;
+        let mut lists: Vec<Vec<usize>> = vec![Vec::new(); ncells];
+        for (j, (a, b)) in boxes.iter().enumerate() {
+            let i0 = [0, 1, 2].map(|c| idx(a[c], c));
+            let i1 = [0, 1, 2].map(|c| idx(b[c], c));
+            for z in i0[2]..=i1[2] {
+                for y in i0[1]..=i1[1] {
+                    for x in i0[0]..=i1[0] {
+                        lists[(z * dims[1] + y) * dims[0] + x].push(j);
+                    }
+                }
+            }
         }
-        for k in 0..ncells {
-            count[k + 1] += count[k];
+        let mut start = Vec::with_capacity(ncells + 1);
+        let mut items = Vec::new();
+        start.push(0);
+        for l in lists {
+            items.extend(l);
+            start.push(items.len());
         }
-        let start = count.clone();
-        let mut fill = count;
-        let mut order = vec![0; points.len()];
-        for (j, p) in points.iter().enumerate() {
-            let c = index(p);
-            order[fill[c]] = j;
-            fill[c] += 1;
-        }
-        PointGrid {
-            points,
+        BucketGrid {
             lo,
             cell,
             dims,
             start,
-            order,
+            items,
         }
     }
 
-    fn nearest_distance(&self, p: &[f64; 3]) -> f64 {
+    /// The smallest `dist(item)` over the items, visiting cells in shells around `p`.
+    fn nearest(&self, p: &[f64; 3], mut dist: impl FnMut(usize) -> f64) -> f64 {
         let centre = [0, 1, 2].map(|c| {
             let x = ((p[c] - self.lo[c]) / self.cell).floor();
             x.clamp(-1.0, self.dims[c] as f64) as i64
@@ -246,7 +373,7 @@ impl<'a> PointGrid<'a> {
         let mut best = f64::INFINITY;
         let max_r = *self.dims.iter().max().expect("3 dims") as i64 + 2;
         for r in 0..=max_r {
-            // Every point in shell r is at least (r - 1) cells away.
+            // Every item first met in shell r is at least (r - 1) cells away.
             if r >= 1 && ((r - 1) as f64 * self.cell) > best {
                 break;
             }
@@ -269,19 +396,63 @@ impl<'a> PointGrid<'a> {
                     for ix in xs {
                         let k =
                             (iz as usize * self.dims[1] + iy as usize) * self.dims[0] + ix as usize;
-                        for &j in &self.order[self.start[k]..self.start[k + 1]] {
-                            let q = self.points[j];
-                            let d = ((p[0] - q[0]).powi(2)
-                                + (p[1] - q[1]).powi(2)
-                                + (p[2] - q[2]).powi(2))
-                            .sqrt();
-                            best = best.min(d);
+                        for &j in &self.items[self.start[k]..self.start[k + 1]] {
+                            best = best.min(dist(j));
                         }
                     }
                 }
             }
         }
         best
+    }
+}
+
+struct PointGrid<'a> {
+    points: &'a [[f64; 3]],
+    grid: BucketGrid,
+}
+
+impl<'a> PointGrid<'a> {
+    fn new(points: &'a [[f64; 3]]) -> Self {
+        let boxes: Vec<([f64; 3], [f64; 3])> = points.iter().map(|p| (*p, *p)).collect();
+        PointGrid {
+            points,
+            grid: BucketGrid::new(&boxes),
+        }
+    }
+
+    fn nearest_distance(&self, p: &[f64; 3]) -> f64 {
+        self.grid.nearest(p, |j| {
+            let q = self.points[j];
+            ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt()
+        })
+    }
+}
+
+struct TriangleGrid<'a> {
+    tris: &'a [[[f64; 3]; 3]],
+    grid: BucketGrid,
+}
+
+impl<'a> TriangleGrid<'a> {
+    fn new(tris: &'a [[[f64; 3]; 3]]) -> Self {
+        let boxes: Vec<([f64; 3], [f64; 3])> = tris
+            .iter()
+            .map(|t| {
+                let lo = [0, 1, 2].map(|c| t[0][c].min(t[1][c]).min(t[2][c]));
+                let hi = [0, 1, 2].map(|c| t[0][c].max(t[1][c]).max(t[2][c]));
+                (lo, hi)
+            })
+            .collect();
+        TriangleGrid {
+            tris,
+            grid: BucketGrid::new(&boxes),
+        }
+    }
+
+    fn nearest_distance(&self, p: &[f64; 3]) -> f64 {
+        self.grid
+            .nearest(p, |j| point_triangle_distance(*p, &self.tris[j]))
     }
 }
 
@@ -355,6 +526,7 @@ mod tests {
         let mut t = Trajectory {
             points: n * n + 1,
             grid: n * n,
+            side: n,
             adapt: AdaptJumps::default(),
             ..Trajectory::default()
         };
@@ -476,6 +648,48 @@ mod tests {
         };
         assert_eq!(directed_hausdorff(&a, &b), brute(&a, &b));
         assert_eq!(directed_hausdorff(&b, &a), brute(&b, &a));
+    }
+
+    #[test]
+    fn point_triangle_distances() {
+        let t = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        let cases = [
+            ([0.2, 0.2, 0.5], 0.5),           // above the interior
+            ([-1.0, 0.0, 0.0], 1.0),          // beyond vertex a
+            ([2.0, 0.0, 0.0], 1.0),           // beyond vertex b
+            ([0.5, -2.0, 0.0], 2.0),          // beside edge ab
+            ([1.0, 1.0, 0.0], 0.5f64.sqrt()), // beside edge bc
+            ([-0.5, 0.5, 0.0], 0.5),          // beside edge ca
+            ([0.0, 2.0, 0.0], 1.0),           // beyond vertex c
+        ];
+        for (p, want) in cases {
+            let d = point_triangle_distance(p, &t);
+            assert!((d - want).abs() < 1e-12, "{p:?}: {d} != {want}");
+        }
+    }
+
+    #[test]
+    fn surface_hausdorff_ignores_meshes_and_sees_offsets() {
+        let b = traj(9, 2, [0.0; 3], 1.0);
+        // The same flat surface sampled on another grid: the points of each lie in the other's
+        // triangles, so the distance is 0 where the point-set distance is not.
+        let c = traj(7, 2, [0.0; 3], 1.0);
+        assert!(hausdorff(&final_surface_points(&b), &final_surface_points(&c)) > 0.01);
+        assert!(surface_hausdorff(&b, &c) < 1e-6);
+        // Mesh vertices count: one side's vertices 0.01 above the other's surface (the last
+        // frame is the unit square shifted by 0.01 along every axis) give 0.01.
+        let mut a = b.clone();
+        a.final_vertices = (0..25)
+            .map(|k| {
+                let (i, j) = ((k % 5) as f32, (k / 5) as f32);
+                [0.01 + 0.25 * i, 0.01 + 0.25 * j, 0.02]
+            })
+            .collect();
+        let d = surface_hausdorff(&a, &b);
+        assert!((d - 0.01).abs() < 1e-6, "{d}");
+        // A parallel plane 0.2 away.
+        let e = traj(9, 2, [0.0, 0.0, 0.2], 1.0);
+        assert!((surface_hausdorff(&b, &e) - 0.2).abs() < 1e-6);
     }
 
     #[test]

@@ -490,6 +490,7 @@ pub fn read_bin(path: &Path) -> Result<(ReferenceHeader, Trajectory), ReferenceE
     let trajectory = Trajectory {
         points,
         grid: header.samples.grid,
+        side: header.samples.side,
         times: header.times.clone(),
         positions: positions.to_vec(),
         final_vertices: final_vertices.to_vec(),
@@ -609,10 +610,12 @@ mod tests {
         let samples = SamplePoints {
             rest: vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5]],
             grid: 2,
+            side: 0,
         };
         let t = Trajectory {
             points: 3,
             grid: 2,
+            side: 0,
             times: vec![0.0, 0.5],
             positions: (0..6).map(|i| [i as f32, 0.5, -1.25 * i as f32]).collect(),
             final_vertices: vec![[1.0, 2.0, 3.0]],

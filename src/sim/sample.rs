@@ -18,6 +18,11 @@ pub struct SamplePoints {
     pub rest: Vec<[Real; 2]>,
     /// How many of `rest` are grid samples.
     pub grid: usize,
+    /// Points per side when the grid samples form a complete `side x side` grid in row-major
+    /// order (u fastest), which lets the metrics triangulate them; 0 when some were off the
+    /// pattern.
+    #[serde(default)]
+    pub side: usize,
 }
 
 impl SamplePoints {
@@ -45,7 +50,11 @@ impl SamplePoints {
         }
         let grid = rest.len();
         rest.extend_from_slice(tracked);
-        SamplePoints { rest, grid }
+        SamplePoints {
+            rest,
+            grid,
+            side: if grid == n * n { n } else { 0 },
+        }
     }
 
     /// Number of points (grid and tracked).
@@ -81,6 +90,8 @@ pub struct Trajectory {
     pub points: usize,
     /// How many of the points are grid samples (the others are tracked points).
     pub grid: usize,
+    /// Grid samples per side when they form a complete grid (see [`SamplePoints::side`]), else 0.
+    pub side: usize,
     /// Simulated time of each recorded frame (s).
     pub times: Vec<Real>,
     /// World positions (m), frame-major: `positions[frame * points + point]`.
@@ -126,6 +137,7 @@ impl Sampler {
             out: Trajectory {
                 points: points.len(),
                 grid: points.grid,
+                side: points.side,
                 ..Trajectory::default()
             },
         }
