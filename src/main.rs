@@ -37,6 +37,25 @@ enum Command {
     Compare(CompareArgs),
     /// Combine the folders of `compare --shard i/n` runs into one comparison and report.
     Merge(MergeArgs),
+    /// Rewrite the plots and reports of existing comparison folders (no run), optionally
+    /// docs/results.md over them.
+    Report(ReportArgs),
+}
+
+#[derive(clap::Args)]
+struct ReportArgs {
+    /// Comparison folders (written by `compare` or `merge`).
+    #[arg(required = true)]
+    dirs: Vec<PathBuf>,
+    /// Also write DIR/results.md (and its plots under DIR/results/) over these comparisons.
+    #[arg(long, value_name = "DIR")]
+    write_docs: Option<PathBuf>,
+    /// Extra markdown file included in results.md after the introduction (settings, costs).
+    #[arg(long, value_name = "FILE")]
+    docs_notes: Option<PathBuf>,
+    /// The command to name in results.md as the one that regenerates it.
+    #[arg(long, default_value = "scripts/results.sh")]
+    docs_command: String,
 }
 
 /// Options of the reference shared by `reference` and `compare`.
@@ -54,6 +73,10 @@ struct RefOpts {
     /// Integrator of the reference and floor runs (default: the scene's).
     #[arg(long = "ref-integrator")]
     ref_integrator: Option<String>,
+    /// Step until the first contact of the reference and floor runs, s ("scene" keeps the
+    /// scene's; 0 = dynamic step from the start).
+    #[arg(long = "ref-dt-initial", default_value = "0")]
+    ref_dt_initial: String,
     /// Material-point sample grid (per side).
     #[arg(long, default_value_t = 64)]
     samples: usize,
@@ -171,6 +194,7 @@ fn main() -> ExitCode {
         Command::Reference(args) => reference(args),
         Command::Compare(args) => compare(args),
         Command::Merge(args) => merge(args),
+        Command::Report(args) => report(args),
         Command::Scenes => {
             for (name, text) in EMBEDDED_SCENES {
                 let description = text
@@ -332,6 +356,17 @@ fn reference_settings(o: &RefOpts) -> Result<ReferenceSettings, String> {
                 .ok_or_else(|| format!("--ref-beta {b}: expected a positive number or `scene`"))?,
         ),
     };
+    let dt_initial = match o.ref_dt_initial.as_str() {
+        "scene" => None,
+        d => Some(
+            d.parse::<f64>()
+                .ok()
+                .filter(|d| *d >= 0.0 && d.is_finite())
+                .ok_or_else(|| {
+                    format!("--ref-dt-initial {d}: expected a non-negative number or `scene`")
+                })?,
+        ),
+    };
     if let Some(i) = &o.ref_integrator {
         adaptcloth::physics::make_integrator(i).map_err(|e| format!("--ref-integrator: {e}"))?;
     }
@@ -349,6 +384,7 @@ fn reference_settings(o: &RefOpts) -> Result<ReferenceSettings, String> {
         floor_resolution: o.floor_resolution,
         beta,
         integrator: o.ref_integrator.clone(),
+        dt_initial,
         samples: o.samples,
     })
 }
@@ -566,4 +602,43 @@ fn merge(args: MergeArgs) -> ExitCode {
             ExitCode::from(1)
         }
     }
+}
+
+fn report(args: ReportArgs) -> ExitCode {
+    let mut done = Vec::new();
+    for dir in &args.dirs {
+        let comparison = match eval::compare::read_comparison(dir) {
+            Ok(c) => c,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        };
+        if let Err(e) = eval::write_report(dir, &comparison) {
+            eprintln!("error: {e}");
+            return ExitCode::from(1);
+        }
+        eprintln!("{}", dir.join("report.md").display());
+        done.push((dir.clone(), comparison));
+    }
+    if let Some(docs) = &args.write_docs {
+        let notes = match &args.docs_notes {
+            None => String::new(),
+            Some(p) => match std::fs::read_to_string(p) {
+                Ok(t) => t,
+                Err(e) => {
+                    eprintln!("error: {}: {e}", p.display());
+                    return ExitCode::from(2);
+                }
+            },
+        };
+        match eval::write_docs(docs, &done, &args.docs_command, &notes) {
+            Ok(p) => eprintln!("wrote {}", p.display()),
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(1);
+            }
+        }
+    }
+    ExitCode::SUCCESS
 }

@@ -431,6 +431,9 @@ pub struct ReferenceInfo {
     pub beta: f64,
     /// Its integrator.
     pub integrator: String,
+    /// Its step until the first contact (s; 0 = dynamic from the start; `None`: the scene's).
+    #[serde(default)]
+    pub dt_initial: Option<f64>,
     /// Cache key.
     pub key: String,
     /// Its steps.
@@ -634,6 +637,7 @@ fn reference_info(r: &Reference) -> ReferenceInfo {
         resolution: h.settings.resolution,
         beta: h.beta,
         integrator: h.integrator.clone(),
+        dt_initial: h.settings.dt_initial,
         key: h.key.clone(),
         steps: h.steps,
         wall_s: h.wall_s,

@@ -490,7 +490,7 @@ pub fn static_time_at_error(static_points: &[(f64, f64)], error: f64) -> Option<
         .map(|i| static_points[i])
         .filter(|p| p.0 > 0.0 && p.1 > 0.0)
         .collect();
-    if !(error > 0.0) {
+    if error.is_nan() || error <= 0.0 {
         return None;
     }
     // Along the front, time increases and error decreases.

@@ -88,6 +88,28 @@ fn err(path: &Path, e: impl std::fmt::Display) -> PlotError {
     }
 }
 
+/// A tick label on a log axis: only at 1, 2 and 5 times a power of ten (others left blank so the
+/// labels do not collide).
+fn log_tick(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return String::new();
+    }
+    let m = v / 10f64.powf(v.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|k| (m - k).abs() < 1e-6 * k)
+    {
+        if v >= 1.0 {
+            format!("{v:.0}")
+        } else {
+            let d = (-v.log10()).ceil().max(0.0) as usize;
+            format!("{v:.d$}")
+        }
+    } else {
+        String::new()
+    }
+}
+
 /// Log-axis range covering `values` (positive, finite), padded by a factor.
 fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
@@ -173,7 +195,7 @@ fn draw_speed<DB: DrawingBackend>(
         .y_desc(format!("{error_name} (m)"))
         .label_style(("sans-serif", 13))
         .axis_desc_style(("sans-serif", 15))
-        .x_label_formatter(&|v| format!("{v:.3}"))
+        .x_label_formatter(&|v| log_tick(*v))
         .y_label_formatter(&|v| format!("{v:.1e}"))
         .draw()?;
     if let Some(f) = floor.filter(|f| *f > 0.0 && f.is_finite()) {
@@ -229,11 +251,14 @@ fn draw_speed<DB: DrawingBackend>(
                 .label(p.label.clone())
                 .legend(move |(x, y)| TriangleMarker::new((x + 9, y), 6, style));
         }
-        chart.draw_series(std::iter::once(Text::new(
-            p.label.clone(),
-            pt,
-            ("sans-serif", 12).into_font().color(&c),
-        )))?;
+        chart.draw_series(std::iter::once(
+            EmptyElement::at(pt)
+                + Text::new(
+                    p.label.clone(),
+                    (8, -16),
+                    ("sans-serif", 12).into_font().color(&c),
+                ),
+        ))?;
     }
     chart
         .configure_series_labels()
@@ -337,7 +362,7 @@ where
     for (i, s) in panel.series.iter().enumerate() {
         let c = if s.dashed { BLACK } else { color(i) };
         let style = ShapeStyle::from(&c).stroke_width(if s.dashed { 1 } else { 2 });
-        let pts: Vec<(f64, f64)> = thin(&s.points, 1500)
+        let pts: Vec<(f64, f64)> = thin(&s.points, 600)
             .into_iter()
             .filter(|(t, y)| t.is_finite() && y.is_finite() && (!panel.log_y || *y > 0.0))
             .collect();

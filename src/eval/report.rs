@@ -480,7 +480,7 @@ pub fn settings(c: &Comparison) -> String {
     format!(
         "Scene `{}` ({}), {} s simulated, runs at the scene's parameters (dynamic step, beta = {}); \
          {} parallel job(s) on this machine (wall times include writing frames and metrics). \
-         Reference: static {res}x{res}, {}, beta = {}, {} steps, {} s wall (cache key `{}`). \
+         Reference: static {res}x{res}, {}, beta = {}{}, {} steps, {} s wall (cache key `{}`). \
          Errors are measured on {s}x{s} material points (MODEL.md §1). \
          **Error floor** (static {f}x{f} against the reference): e_rms {} m, e_final {} m, tracked {} m, Hausdorff {} m.",
         m.scene,
@@ -490,6 +490,11 @@ pub fn settings(c: &Comparison) -> String {
         m.jobs,
         r.integrator,
         r.beta,
+        match r.dt_initial {
+            Some(d) if d == 0.0 => ", dynamic step from the start".to_string(),
+            Some(d) => format!(", {d} s until the first contact"),
+            None => String::new(),
+        },
         r.steps,
         fmt_s(r.wall_s),
         r.key,
