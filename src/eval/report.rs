@@ -491,7 +491,7 @@ pub fn settings(c: &Comparison) -> String {
         r.integrator,
         r.beta,
         match r.dt_initial {
-            Some(d) if d == 0.0 => ", dynamic step from the start".to_string(),
+            Some(0.0) => ", dynamic step from the start".to_string(),
             Some(d) => format!(", {d} s until the first contact"),
             None => String::new(),
         },

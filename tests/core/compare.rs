@@ -15,9 +15,9 @@ fn adaptcloth(args: &[&str]) -> (i32, String) {
     (out.status.code().unwrap_or(-1), text)
 }
 
+const RUNS: &str = "static@3,static@5,remesh";
+
 const TINY: &[&str] = &[
-    "--runs",
-    "static@3,static@5,remesh",
     "--ref-resolution",
     "9",
     "--floor-resolution",
@@ -29,10 +29,12 @@ const TINY: &[&str] = &[
     "--quiet",
 ];
 
-fn compare_into(out: &Path, cache: &Path, extra: &[&str]) -> String {
+fn compare_into(out: &Path, cache: &Path, runs: &str, extra: &[&str]) -> String {
     let mut args = vec![
         "compare",
         "sphere",
+        "--runs",
+        runs,
         "--out",
         out.to_str().unwrap(),
         "--cache",
@@ -50,7 +52,7 @@ fn tiny_compare_end_to_end_with_cache_shards_and_merge() {
     let dir = tempfile::tempdir().unwrap();
     let cache = dir.path().join("cache");
     let full = dir.path().join("full");
-    let text = compare_into(&full, &cache, &["--jobs", "2"]);
+    let text = compare_into(&full, &cache, RUNS, &["--jobs", "2"]);
     assert!(!text.contains("(cached)"), "first run computes: {text}");
 
     for f in [
@@ -102,15 +104,15 @@ fn tiny_compare_end_to_end_with_cache_shards_and_merge() {
 
     // The reference is read from the cache the second time (one entry).
     let again = dir.path().join("again");
-    let text = compare_into(&again, &cache, &["--runs", "static@3"]);
+    let text = compare_into(&again, &cache, "static@3", &[]);
     assert!(text.contains("(cached)"), "{text}");
     assert_eq!(std::fs::read_dir(&cache).unwrap().count(), 1);
 
     // Two shards, merged, give the same runs with the same errors (runs are deterministic).
     let s1 = dir.path().join("s1");
     let s2 = dir.path().join("s2");
-    compare_into(&s1, &cache, &["--shard", "1/2"]);
-    compare_into(&s2, &cache, &["--shard", "2/2"]);
+    compare_into(&s1, &cache, RUNS, &["--shard", "1/2"]);
+    compare_into(&s2, &cache, RUNS, &["--shard", "2/2"]);
     let n1 = read_csv(&s1.join("comparison.csv")).unwrap().len();
     let n2 = read_csv(&s2.join("comparison.csv")).unwrap().len();
     assert_eq!(n1 + n2, rows.len());
