@@ -21,11 +21,13 @@
 //!   to PNG (snapshot grids, single pictures); outside the step loop.
 //! - [`report_html`]: the self-contained `report.html`: markdown sections, embedded images and an
 //!   interactive 3D replay per run.
+//! - [`eval`]: error metrics against a cached reference, comparisons, plots and reports.
 #![warn(missing_docs)]
 
 pub mod adapt;
 pub mod cloth;
 pub mod collision;
+pub mod eval;
 pub mod math;
 pub mod mesh;
 pub mod output;

@@ -2,9 +2,11 @@
 //! collide, adapt; each stage is timed. Recording and the run driver are in [`run`].
 
 mod run;
+mod sample;
 mod setup;
 
 pub use run::{run, RunOptions, RunStatus, RunSummary};
+pub use sample::{AdaptJumps, SamplePoints, Sampler, Trajectory};
 pub use setup::{build_cloth, SetupError};
 
 use crate::adapt::{AdaptContext, AdaptReport, Adaptivity};

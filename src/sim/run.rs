@@ -2,6 +2,7 @@
 //! progress, and stops cleanly on divergence, adaptation failure, a non-conforming frame or an
 //! interrupt, with everything recorded so far on disk and a summary saying why it stopped.
 
+use super::sample::{SamplePoints, Sampler, Trajectory};
 use super::{Simulation, StageTimes, StepError};
 use crate::math::Real;
 use crate::output::{frame_path, write_atomic, write_frame, MetricsRow, MetricsWriter};
@@ -23,6 +24,11 @@ pub struct RunOptions {
     pub interrupt: Option<Arc<AtomicBool>>,
     /// Where the scene came from, for the summary.
     pub source: String,
+    /// Material points to sample at every output frame (error metrics); the trajectory is
+    /// returned in [`RunSummary::trajectory`].
+    pub samples: Option<Arc<SamplePoints>>,
+    /// A progress bar to drive instead of creating one (e.g. one line of a multi-run display).
+    pub bar: Option<ProgressBar>,
 }
 
 /// How a run ended.
@@ -70,6 +76,9 @@ pub struct RunSummary {
     pub message: String,
     /// Wall time per stage of the step.
     pub stage_times: StageTimes,
+    /// The sampled material points, when [`RunOptions::samples`] asked for them (not serialized).
+    #[serde(skip)]
+    pub trajectory: Option<Trajectory>,
 }
 
 /// Runs `sim` to its duration, writing `frames/`, `metrics.csv` and `summary.json` to
@@ -90,7 +99,14 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
     }
     let _ = std::fs::remove_file(opts.out_dir.join("summary.json"));
     let mut metrics = MetricsWriter::create(&opts.out_dir, sim.tracked.len())?;
-    let bar = progress_bar(sim, opts.progress);
+    let bar = match &opts.bar {
+        Some(bar) => {
+            bar.set_length((sim.scene.time.duration * 1e3).ceil() as u64);
+            bar.clone()
+        }
+        None => progress_bar(sim, opts.progress),
+    };
+    let mut sampler = opts.samples.as_deref().map(Sampler::new);
 
     let frame_period = 1.0 / sim.scene.time.frame_rate;
     let metrics_period = 1.0 / sim.scene.time.metrics_rate;
@@ -128,6 +144,9 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
                 &sim.cloth.x,
                 sim.t,
             )?;
+            if let Some(s) = sampler.as_mut() {
+                s.record(&sim.cloth, sim.t);
+            }
             frames += 1;
         }
         if last_flush.elapsed() > Duration::from_secs(2) {
@@ -148,7 +167,12 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
             break;
         }
         match sim.step() {
-            Ok(report) => last = report,
+            Ok(report) => {
+                if let Some(s) = sampler.as_mut() {
+                    s.observe_adaptation(&report.adapt);
+                }
+                last = report
+            }
             Err(e) => {
                 status = match e {
                     StepError::Diverged { .. } => RunStatus::Diverged,
@@ -188,6 +212,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         status,
         message,
         stage_times: sim.stage_times,
+        trajectory: sampler.map(Sampler::finish),
     };
     let json = serde_json::to_string_pretty(&summary).map_err(std::io::Error::other)?;
     write_atomic(&opts.out_dir.join("summary.json"), json.as_bytes())?;

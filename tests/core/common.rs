@@ -26,6 +26,7 @@ pub fn run_into(loaded: &LoadedScene, out: &Path) -> (Simulation, RunSummary) {
         progress: false,
         interrupt: None,
         source: loaded.source.clone(),
+        ..RunOptions::default()
     };
     let summary = sim::run(&mut s, &opts).expect("outputs written");
     (s, summary)

@@ -3,6 +3,7 @@
 mod browser;
 mod cli;
 mod common;
+mod compare;
 mod physics_laws;
 mod runs;
 mod transfer;

@@ -154,6 +154,7 @@ fn interrupt_stops_cleanly() {
         progress: false,
         interrupt: Some(Arc::new(AtomicBool::new(true))),
         source: "test".into(),
+        ..RunOptions::default()
     };
     let summary = sim::run(&mut s, &opts).unwrap();
     assert_eq!(summary.status, RunStatus::Interrupted);

@@ -1,0 +1,449 @@
+//! Plots of a comparison (plotters, SVG and PNG, fonts from the embedded DejaVu Sans so no system
+//! font library is needed): speed against error with the Pareto front and the reference floor,
+//! and time series (any quantity over simulated time, one line per run, one or more panels).
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+use std::sync::Once;
+
+/// Why a plot could not be drawn.
+#[derive(Debug, thiserror::Error)]
+#[error("plot {path}: {message}")]
+pub struct PlotError {
+    /// The file.
+    pub path: String,
+    /// The backend's message.
+    pub message: String,
+}
+
+fn register_fonts() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        let _ = plotters::style::register_font(
+            "sans-serif",
+            FontStyle::Normal,
+            dejavu::sans::regular(),
+        );
+    });
+}
+
+/// One configuration on the speed-error plot.
+#[derive(Clone, Debug)]
+pub struct SpeedPoint {
+    /// Label.
+    pub label: String,
+    /// Wall time (s).
+    pub wall_s: f64,
+    /// Error (m).
+    pub error: f64,
+    /// Whether it is a static-mesh run (drawn as circles; adaptive ones as triangles).
+    pub is_static: bool,
+}
+
+/// One line of a time series.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// `(t, y)` points.
+    pub points: Vec<(f64, f64)>,
+    /// Dashed (e.g. the reference).
+    pub dashed: bool,
+}
+
+/// One panel of a time-series figure.
+#[derive(Clone, Debug)]
+pub struct Panel {
+    /// Y-axis label (with unit).
+    pub y_label: String,
+    /// Logarithmic y axis.
+    pub log_y: bool,
+    /// The lines.
+    pub series: Vec<Series>,
+    /// Optional horizontal line `(label, y)` (e.g. the floor).
+    pub hline: Option<(String, f64)>,
+}
+
+fn color(i: usize) -> RGBColor {
+    const C: [RGBColor; 10] = [
+        RGBColor(31, 119, 180),
+        RGBColor(255, 127, 14),
+        RGBColor(44, 160, 44),
+        RGBColor(214, 39, 40),
+        RGBColor(148, 103, 189),
+        RGBColor(140, 86, 75),
+        RGBColor(227, 119, 194),
+        RGBColor(127, 127, 127),
+        RGBColor(188, 189, 34),
+        RGBColor(23, 190, 207),
+    ];
+    C[i % C.len()]
+}
+
+fn err(path: &Path, e: impl std::fmt::Display) -> PlotError {
+    PlotError {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// A tick label on a log axis: only at 1, 2 and 5 times a power of ten (others left blank so the
+/// labels do not collide).
+fn log_tick(v: f64) -> String {
+    if !(v.is_finite() && v > 0.0) {
+        return String::new();
+    }
+    let m = v / 10f64.powf(v.log10().floor());
+    if [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|k| (m - k).abs() < 1e-6 * k)
+    {
+        if v >= 1.0 {
+            format!("{v:.0}")
+        } else {
+            let d = (-v.log10()).ceil().max(0.0) as usize;
+            format!("{v:.d$}")
+        }
+    } else {
+        String::new()
+    }
+}
+
+/// Log-axis range covering `values` (positive, finite), padded by a factor.
+fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for v in values.filter(|v| v.is_finite() && *v > 0.0) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return (1e-3, 1.0);
+    }
+    if hi <= lo * 1.0001 {
+        return (lo / 2.0, hi * 2.0);
+    }
+    (lo / 1.6, hi * 1.6)
+}
+
+fn lin_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if !lo.is_finite() {
+        return (0.0, 1.0);
+    }
+    let pad = ((hi - lo) * 0.05).max(1e-9 * hi.abs().max(1.0));
+    (lo - pad, hi + pad)
+}
+
+/// Draws the speed-error plot to `stem.svg` and `stem.png`: wall time against error, log-log,
+/// a labelled marker per configuration, the Pareto front as a line, the floor as a dashed line.
+/// Returns the files written.
+pub fn speed_error(
+    stem: &Path,
+    title: &str,
+    error_name: &str,
+    points: &[SpeedPoint],
+    front: &[usize],
+    floor: Option<f64>,
+) -> Result<Vec<PathBuf>, PlotError> {
+    register_fonts();
+    let svg = stem.with_extension("svg");
+    let png = stem.with_extension("png");
+    {
+        let root = SVGBackend::new(&svg, (860, 560)).into_drawing_area();
+        draw_speed(&root, title, error_name, points, front, floor).map_err(|e| err(&svg, e))?;
+        root.present().map_err(|e| err(&svg, e))?;
+    }
+    {
+        let root = BitMapBackend::new(&png, (860, 560)).into_drawing_area();
+        draw_speed(&root, title, error_name, points, front, floor).map_err(|e| err(&png, e))?;
+        root.present().map_err(|e| err(&png, e))?;
+    }
+    Ok(vec![svg, png])
+}
+
+type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+fn draw_speed<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    error_name: &str,
+    points: &[SpeedPoint],
+    front: &[usize],
+    floor: Option<f64>,
+) -> DrawResult<DB> {
+    root.fill(&WHITE)?;
+    let ok: Vec<&SpeedPoint> = points
+        .iter()
+        .filter(|p| p.wall_s > 0.0 && p.error > 0.0 && p.wall_s.is_finite() && p.error.is_finite())
+        .collect();
+    let (x0, x1) = log_range(ok.iter().map(|p| p.wall_s));
+    let (y0, y1) = log_range(ok.iter().map(|p| p.error).chain(floor));
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(75)
+        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("wall time (s)")
+        .y_desc(format!("{error_name} (m)"))
+        .label_style(("sans-serif", 13))
+        .axis_desc_style(("sans-serif", 15))
+        .x_label_formatter(&|v| log_tick(*v))
+        .y_label_formatter(&|v| format!("{v:.1e}"))
+        .draw()?;
+    if let Some(f) = floor.filter(|f| *f > 0.0 && f.is_finite()) {
+        let style = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
+        // Dashed: short segments.
+        let n = 40;
+        let lx0 = x0.ln();
+        let lx1 = x1.ln();
+        let segs: Vec<Vec<(f64, f64)>> = (0..n)
+            .filter(|k| k % 2 == 0)
+            .map(|k| {
+                let a = (lx0 + (lx1 - lx0) * k as f64 / n as f64).exp();
+                let b = (lx0 + (lx1 - lx0) * (k + 1) as f64 / n as f64).exp();
+                vec![(a, f), (b, f)]
+            })
+            .collect();
+        for (k, s) in segs.into_iter().enumerate() {
+            let series = chart.draw_series(LineSeries::new(s, style))?;
+            if k == 0 {
+                series
+                    .label(format!("reference floor {f:.2e} m"))
+                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
+            }
+        }
+    }
+    let front_pts: Vec<(f64, f64)> = front
+        .iter()
+        .filter_map(|&i| points.get(i))
+        .map(|p| (p.wall_s, p.error))
+        .collect();
+    if front_pts.len() >= 2 {
+        let style = ShapeStyle::from(&BLACK).stroke_width(2);
+        chart
+            .draw_series(LineSeries::new(front_pts, style))?
+            .label("Pareto front")
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
+    }
+    for (i, p) in points.iter().enumerate() {
+        if !(p.wall_s > 0.0 && p.error > 0.0 && p.wall_s.is_finite() && p.error.is_finite()) {
+            continue;
+        }
+        let c = color(i);
+        let style = ShapeStyle::from(&c).filled();
+        let pt = (p.wall_s, p.error);
+        if p.is_static {
+            chart
+                .draw_series(std::iter::once(Circle::new(pt, 6, style)))?
+                .label(p.label.clone())
+                .legend(move |(x, y)| Circle::new((x + 9, y), 5, style));
+        } else {
+            chart
+                .draw_series(std::iter::once(TriangleMarker::new(pt, 8, style)))?
+                .label(p.label.clone())
+                .legend(move |(x, y)| TriangleMarker::new((x + 9, y), 6, style));
+        }
+        chart.draw_series(std::iter::once(
+            EmptyElement::at(pt)
+                + Text::new(
+                    p.label.clone(),
+                    (8, -16),
+                    ("sans-serif", 12).into_font().color(&c),
+                ),
+        ))?;
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 13))
+        .position(SeriesLabelPosition::UpperRight)
+        .draw()?;
+    Ok(())
+}
+
+/// Draws a figure of stacked panels sharing the time axis to `stem.svg` and `stem.png`.
+pub fn time_series(stem: &Path, title: &str, panels: &[Panel]) -> Result<Vec<PathBuf>, PlotError> {
+    register_fonts();
+    let svg = stem.with_extension("svg");
+    let png = stem.with_extension("png");
+    let h = 80 + 300 * panels.len() as u32;
+    {
+        let root = SVGBackend::new(&svg, (860, h)).into_drawing_area();
+        draw_panels(&root, title, panels).map_err(|e| err(&svg, e))?;
+        root.present().map_err(|e| err(&svg, e))?;
+    }
+    {
+        let root = BitMapBackend::new(&png, (860, h)).into_drawing_area();
+        draw_panels(&root, title, panels).map_err(|e| err(&png, e))?;
+        root.present().map_err(|e| err(&png, e))?;
+    }
+    Ok(vec![svg, png])
+}
+
+/// At most `n` points of a line, evenly picked (keeps files small).
+fn thin(points: &[(f64, f64)], n: usize) -> Vec<(f64, f64)> {
+    if points.len() <= n {
+        return points.to_vec();
+    }
+    let step = points.len() as f64 / n as f64;
+    let mut out: Vec<(f64, f64)> = (0..n).map(|k| points[(k as f64 * step) as usize]).collect();
+    if let Some(last) = points.last() {
+        out.push(*last);
+    }
+    out
+}
+
+fn draw_panels<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    panels: &[Panel],
+) -> DrawResult<DB> {
+    root.fill(&WHITE)?;
+    let root = root.titled(title, ("sans-serif", 20))?;
+    let areas = root.split_evenly((panels.len().max(1), 1));
+    for (panel, area) in panels.iter().zip(areas) {
+        let all = || {
+            panel
+                .series
+                .iter()
+                .flat_map(|s| s.points.iter().copied())
+                .filter(|(t, y)| t.is_finite() && y.is_finite())
+        };
+        let (t0, t1) = lin_range(all().map(|p| p.0));
+        let hline = panel.hline.as_ref().map(|h| h.1);
+        let mut chart = ChartBuilder::on(&area);
+        chart.margin(10).x_label_area_size(35).y_label_area_size(80);
+        if panel.log_y {
+            let (y0, y1) = log_range(all().map(|p| p.1).chain(hline));
+            let mut c = chart.build_cartesian_2d(t0..t1, (y0..y1).log_scale())?;
+            c.configure_mesh()
+                .x_desc("t (s)")
+                .y_desc(panel.y_label.as_str())
+                .label_style(("sans-serif", 12))
+                .axis_desc_style(("sans-serif", 14))
+                .y_label_formatter(&|v| format!("{v:.1e}"))
+                .draw()?;
+            draw_lines(&mut c, panel, (t0, t1))?;
+        } else {
+            let (y0, y1) = lin_range(all().map(|p| p.1).chain(hline));
+            let mut c = chart.build_cartesian_2d(t0..t1, y0..y1)?;
+            c.configure_mesh()
+                .x_desc("t (s)")
+                .y_desc(panel.y_label.as_str())
+                .label_style(("sans-serif", 12))
+                .axis_desc_style(("sans-serif", 14))
+                .y_label_formatter(&|v| format!("{v:.3}"))
+                .draw()?;
+            draw_lines(&mut c, panel, (t0, t1))?;
+        }
+    }
+    Ok(())
+}
+
+fn draw_lines<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    panel: &Panel,
+    (t0, t1): (f64, f64),
+) -> DrawResult<DB>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    for (i, s) in panel.series.iter().enumerate() {
+        let c = if s.dashed { BLACK } else { color(i) };
+        let style = ShapeStyle::from(&c).stroke_width(if s.dashed { 1 } else { 2 });
+        let pts: Vec<(f64, f64)> = thin(&s.points, 600)
+            .into_iter()
+            .filter(|(t, y)| t.is_finite() && y.is_finite() && (!panel.log_y || *y > 0.0))
+            .collect();
+        if pts.is_empty() {
+            continue;
+        }
+        let series = if s.dashed {
+            chart.draw_series(DashedLineSeries::new(pts, 6, 4, style))?
+        } else {
+            chart.draw_series(LineSeries::new(pts, style))?
+        };
+        series
+            .label(s.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
+    }
+    if let Some((label, y)) = &panel.hline {
+        if y.is_finite() && (!panel.log_y || *y > 0.0) {
+            let style = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
+            chart
+                .draw_series(DashedLineSeries::new(vec![(t0, *y), (t1, *y)], 8, 6, style))?
+                .label(label.clone())
+                .legend(move |(x, yy)| PathElement::new(vec![(x, yy), (x + 18, yy)], style));
+        }
+    }
+    if !panel.series.is_empty() {
+        chart
+            .configure_series_labels()
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .label_font(("sans-serif", 12))
+            .position(SeriesLabelPosition::UpperRight)
+            .draw()?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn plots_are_written_without_system_fonts() {
+        let dir = tempfile::tempdir().unwrap();
+        let pts = vec![
+            SpeedPoint {
+                label: "a".into(),
+                wall_s: 1.0,
+                error: 0.1,
+                is_static: true,
+            },
+            SpeedPoint {
+                label: "b".into(),
+                wall_s: 10.0,
+                error: 0.01,
+                is_static: false,
+            },
+        ];
+        let files = speed_error(
+            &dir.path().join("se"),
+            "t",
+            "e_rms",
+            &pts,
+            &[0, 1],
+            Some(0.005),
+        )
+        .unwrap();
+        for f in files {
+            assert!(std::fs::metadata(&f).unwrap().len() > 1000, "{f:?}");
+        }
+        let panel = Panel {
+            y_label: "y".into(),
+            log_y: true,
+            series: vec![Series {
+                label: "s".into(),
+                points: (1..100).map(|k| (k as f64 * 0.01, k as f64)).collect(),
+                dashed: false,
+            }],
+            hline: Some(("floor".into(), 3.0)),
+        };
+        let files = time_series(&dir.path().join("ts"), "t", &[panel.clone(), panel]).unwrap();
+        let svg = std::fs::read_to_string(&files[0]).unwrap();
+        assert!(svg.contains("<svg"));
+    }
+}

@@ -1,0 +1,672 @@
+//! The reference solution: the static strategy on a fine grid at a small step, its sampled
+//! trajectories stored compactly in a cache keyed by a hash of the physics parameters, and its own
+//! error floor (the same run at a coarser grid, e.g. 33x33, against it).
+//!
+//! Cache entry `CACHE/<scene>-<resolution>-<key>/`: `reference.bin` (magic `ACREF001`, a
+//! little-endian `u32` header length, a JSON header, then the sampled positions as f32
+//! little-endian, frame-major, then the final vertex positions as f32), plus the reference's and
+//! the floor run's own outputs (`reference/`, `floor/`: frames, metrics.csv, summary.json).
+//!
+//! The key is a 64-bit FNV-1a hash (stable across Rust releases, unlike `DefaultHasher`) of the
+//! reference scene serialized to JSON with everything that is not physics normalised away (name,
+//! description, the `[adaptivity]` section, `metrics_rate`), of the reference settings (grid,
+//! step factor, integrator, sample grid, floor grid) and of the bytes of every mesh file the
+//! scene reads. Output folders are not part of it. Frame rate is: the reference is sampled at the
+//! scene's frames.
+
+use super::metrics::{self, ErrorReport};
+use crate::scene::{AdaptivitySpec, ClothShape, LoadedScene, ObstacleShape, Scene};
+use crate::sim::{self, RunOptions, RunStatus, RunSummary, SamplePoints, Simulation, Trajectory};
+use indicatif::ProgressBar;
+use serde::{Deserialize, Serialize};
+use std::fmt::Write as _;
+use std::io::Read;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+
+/// Version of the cache format and of the key's contents; bump to invalidate every entry.
+pub const CACHE_FORMAT: u32 = 1;
+const MAGIC: &[u8; 8] = b"ACREF001";
+
+/// How the reference is computed.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceSettings {
+    /// Vertices per side of the reference grid. Default 65.
+    pub resolution: usize,
+    /// Vertices per side of the floor run compared against the reference. Default 33.
+    pub floor_resolution: usize,
+    /// Dynamic step factor `beta` of the reference and floor runs; `None` keeps the scene's.
+    /// Default 0.01 (see `docs/results.md`: on the sphere at 17x17 the tracked corner moves by
+    /// 1.3e-4 m between beta = 1e-3 and 1e-2, far below the spatial error; 0.05 diverges).
+    pub beta: Option<f64>,
+    /// Integrator of the reference and floor runs; `None` keeps the scene's.
+    pub integrator: Option<String>,
+    /// `time.dt_initial` of the reference and floor runs (s; 0 = the dynamic step from the
+    /// start); `None` keeps the scene's. Default 0: the scenes' 1e-4 s pre-contact step is
+    /// unstable on a 33x33 grid (measured: the sphere diverges at t = 0.099 s), while free fall
+    /// before the first contact is the same at any step.
+    pub dt_initial: Option<f64>,
+    /// Sample grid: `samples x samples` rest points over the pattern. Default 64.
+    pub samples: usize,
+}
+
+impl Default for ReferenceSettings {
+    fn default() -> Self {
+        ReferenceSettings {
+            resolution: 65,
+            floor_resolution: 33,
+            beta: Some(0.01),
+            integrator: None,
+            dt_initial: Some(0.0),
+            samples: 64,
+        }
+    }
+}
+
+/// The floor: the floor run's errors against the reference.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Floor {
+    /// Vertices per side of the floor run.
+    pub resolution: usize,
+    /// Its `e_rms` (m).
+    pub e_rms: f64,
+    /// Its `e_final` (m).
+    pub e_final: f64,
+    /// Its tracked-point error (m).
+    pub tracked_err: f64,
+    /// Its Hausdorff distance (m).
+    pub hausdorff: f64,
+    /// Its wall time (s).
+    pub wall_s: f64,
+    /// Its steps.
+    pub steps: u64,
+}
+
+/// The JSON header of `reference.bin`: everything about the reference but the positions.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceHeader {
+    /// [`CACHE_FORMAT`].
+    pub format: u32,
+    /// The cache key (16 hex digits).
+    pub key: String,
+    /// Scene name.
+    pub scene: String,
+    /// How it was computed.
+    pub settings: ReferenceSettings,
+    /// Integrator actually used.
+    pub integrator: String,
+    /// Step factor actually used.
+    pub beta: f64,
+    /// The sampled rest points.
+    pub samples: SamplePoints,
+    /// Frame times (s).
+    pub times: Vec<f64>,
+    /// Number of final vertices stored.
+    pub final_vertices: usize,
+    /// Steps of the reference run.
+    pub steps: u64,
+    /// Wall time of the reference run (s).
+    pub wall_s: f64,
+    /// Simulated time reached (s).
+    pub sim_time: f64,
+    /// The floor.
+    pub floor: Floor,
+    /// The normalised physics parameters that were hashed (for people reading the cache).
+    pub physics: serde_json::Value,
+}
+
+/// A loaded or computed reference.
+#[derive(Clone, Debug)]
+pub struct Reference {
+    /// Its header.
+    pub header: ReferenceHeader,
+    /// Its sampled trajectory.
+    pub trajectory: Trajectory,
+    /// The cache entry folder (holds `reference/` and `floor/` run outputs).
+    pub dir: PathBuf,
+    /// True when it was read from the cache rather than computed now.
+    pub cached: bool,
+}
+
+/// Why a reference could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum ReferenceError {
+    /// Reading or writing the cache or run outputs failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file or folder.
+        path: String,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// The scene could not be set up.
+    #[error("{0}")]
+    Setup(#[from] crate::sim::SetupError),
+    /// A run ended without completing.
+    #[error("the {what} run ({resolution}x{resolution}) did not complete: {status:?}: {message}")]
+    RunFailed {
+        /// `reference` or `floor`.
+        what: &'static str,
+        /// Its grid.
+        resolution: usize,
+        /// How it ended.
+        status: RunStatus,
+        /// Why.
+        message: String,
+    },
+    /// A cache file is malformed.
+    #[error("{path}: malformed reference cache file: {why}")]
+    Malformed {
+        /// The file.
+        path: String,
+        /// What is wrong.
+        why: String,
+    },
+    /// The settings are unusable.
+    #[error("reference settings: {0}")]
+    Settings(String),
+    /// The metrics could not be computed.
+    #[error("{0}")]
+    Eval(#[from] metrics::EvalError),
+}
+
+fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> ReferenceError + '_ {
+    move |source| ReferenceError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// 64-bit FNV-1a of `bytes`, continuing from `hash` (start with [`FNV_OFFSET`]).
+pub fn fnv1a(mut hash: u64, bytes: &[u8]) -> u64 {
+    for &b in bytes {
+        hash ^= b as u64;
+        hash = hash.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    hash
+}
+
+/// FNV-1a 64 offset basis.
+pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// The scene of a reference-like static run derived from `base`: grid `resolution`, strategy
+/// static, and the settings' step factor, initial step and integrator when set.
+pub fn static_variant(
+    base: &LoadedScene,
+    resolution: usize,
+    settings: &ReferenceSettings,
+) -> LoadedScene {
+    let (beta, integrator) = (settings.beta, settings.integrator.as_deref());
+    let mut l = base.clone();
+    if let Some(d) = settings.dt_initial {
+        l.scene.time.dt_initial = d;
+    }
+    l.scene.cloth.resolution = resolution;
+    l.scene.cloth.resolution_v = 0;
+    l.scene.adaptivity.strategy = "static".into();
+    if let Some(b) = beta {
+        l.scene.time.beta = b;
+    }
+    if let Some(i) = integrator {
+        l.scene.integrator.name = i.to_string();
+    }
+    l
+}
+
+/// The physics parameters of a scene as they enter the key: name, description, the adaptivity
+/// section and the metrics rate normalised away.
+pub fn physics_json(scene: &Scene) -> serde_json::Value {
+    let mut s = scene.clone();
+    s.name.clear();
+    s.description.clear();
+    s.adaptivity = AdaptivitySpec::default();
+    s.time.metrics_rate = 0.0;
+    serde_json::to_value(&s).expect("a scene serializes")
+}
+
+/// The cache key of the reference of `base` under `settings` (16 hex digits).
+pub fn cache_key(base: &LoadedScene, settings: &ReferenceSettings) -> String {
+    let reference = static_variant(base, settings.resolution, settings);
+    let physics = physics_json(&reference.scene);
+    let keyed = serde_json::json!({
+        "format": CACHE_FORMAT,
+        "physics": physics,
+        "samples": settings.samples,
+        "floor_resolution": settings.floor_resolution,
+    });
+    let mut h = fnv1a(FNV_OFFSET, keyed.to_string().as_bytes());
+    for file in mesh_files(&reference) {
+        h = fnv1a(h, file.display().to_string().as_bytes());
+        match std::fs::read(&file) {
+            Ok(bytes) => h = fnv1a(h, &bytes),
+            Err(_) => h = fnv1a(h, b"<unreadable>"),
+        }
+    }
+    format!("{h:016x}")
+}
+
+/// Files a scene reads: the cloth OBJ and obstacle meshes.
+fn mesh_files(l: &LoadedScene) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    if l.scene.cloth.shape == ClothShape::Obj {
+        files.push(PathBuf::from(&l.scene.cloth.mesh));
+    }
+    for o in &l.scene.obstacles {
+        if let ObstacleShape::Mesh { file, .. } = &o.shape {
+            files.push(PathBuf::from(file));
+        }
+    }
+    // Hash contents read from base_dir but name them relative, so moving the tree keeps the key.
+    files
+        .into_iter()
+        .map(|f| {
+            let full = l.base_dir.join(&f);
+            if full.exists() {
+                full
+            } else {
+                f
+            }
+        })
+        .collect()
+}
+
+/// The cache entry folder of a reference.
+pub fn entry_dir(cache: &Path, base: &LoadedScene, settings: &ReferenceSettings) -> PathBuf {
+    cache.join(format!(
+        "{}-{}-{}",
+        base.scene.name,
+        settings.resolution,
+        cache_key(base, settings)
+    ))
+}
+
+/// Runs one static run of `loaded` into `out`, sampling `samples`.
+pub fn run_sampled(
+    loaded: &LoadedScene,
+    out: &Path,
+    samples: Arc<SamplePoints>,
+    bar: Option<ProgressBar>,
+    interrupt: Option<Arc<AtomicBool>>,
+) -> Result<RunSummary, ReferenceError> {
+    let mut simulation = Simulation::new(loaded)?;
+    let opts = RunOptions {
+        out_dir: out.to_path_buf(),
+        progress: false,
+        interrupt,
+        source: loaded.source.clone(),
+        samples: Some(samples),
+        bar,
+    };
+    sim::run(&mut simulation, &opts).map_err(io_err(out))
+}
+
+/// The sample points of a scene: `n x n` over its pattern plus its tracked points.
+pub fn sample_points(loaded: &LoadedScene, n: usize) -> Result<SamplePoints, ReferenceError> {
+    let cloth = crate::sim::build_cloth(loaded)?;
+    let tracked: Vec<[f64; 2]> = loaded.scene.tracked.iter().map(|t| t.rest).collect();
+    Ok(SamplePoints::grid_over(&cloth.mesh, n, &tracked))
+}
+
+/// Loads the reference of `base` from the cache, or computes it (reference and floor runs, in
+/// parallel when `jobs >= 2`) and stores it. `force` recomputes even when cached. `progress`
+/// receives one bar per run when given.
+pub fn ensure_reference(
+    base: &LoadedScene,
+    settings: &ReferenceSettings,
+    cache: &Path,
+    jobs: usize,
+    force: bool,
+    progress: Option<&indicatif::MultiProgress>,
+    interrupt: Option<Arc<AtomicBool>>,
+) -> Result<Reference, ReferenceError> {
+    if settings.resolution < 2 || settings.floor_resolution < 2 || settings.samples < 2 {
+        return Err(ReferenceError::Settings(format!(
+            "resolution {}, floor resolution {} and samples {} must be at least 2",
+            settings.resolution, settings.floor_resolution, settings.samples
+        )));
+    }
+    if settings.beta.is_some_and(|b| !(b > 0.0 && b.is_finite())) {
+        return Err(ReferenceError::Settings(
+            "beta must be positive".to_string(),
+        ));
+    }
+    let key = cache_key(base, settings);
+    let dir = entry_dir(cache, base, settings);
+    let bin = dir.join("reference.bin");
+    if !force && bin.is_file() {
+        if let Ok((header, trajectory)) = read_bin(&bin) {
+            if header.key == key && header.format == CACHE_FORMAT {
+                return Ok(Reference {
+                    header,
+                    trajectory,
+                    dir,
+                    cached: true,
+                });
+            }
+        }
+    }
+    let reference_scene = static_variant(base, settings.resolution, settings);
+    let floor_scene = static_variant(base, settings.floor_resolution, settings);
+    let samples = Arc::new(sample_points(&reference_scene, settings.samples)?);
+    std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
+    let bar = |label: &str| {
+        progress.map(|m| {
+            let b = m.add(ProgressBar::new(1));
+            super::compare::style_bar(&b, label);
+            b
+        })
+    };
+    let jobs_ref = (
+        &reference_scene,
+        dir.join("reference"),
+        bar(&format!("reference {0}x{0}", settings.resolution)),
+    );
+    let jobs_floor = (
+        &floor_scene,
+        dir.join("floor"),
+        bar(&format!("floor {0}x{0}", settings.floor_resolution)),
+    );
+    let run = |(scene, out, bar): (&LoadedScene, PathBuf, Option<ProgressBar>)| {
+        let r = run_sampled(scene, &out, samples.clone(), bar.clone(), interrupt.clone());
+        if let Some(b) = bar {
+            b.finish_and_clear();
+        }
+        r
+    };
+    let (reference, floor) = if jobs >= 2 {
+        std::thread::scope(|s| {
+            let f = s.spawn(|| run(jobs_floor));
+            let r = run(jobs_ref);
+            (r, f.join().expect("floor run thread"))
+        })
+    } else {
+        (run(jobs_ref), run(jobs_floor))
+    };
+    let (reference, floor) = (reference?, floor?);
+    for (what, res, s) in [
+        ("reference", settings.resolution, &reference),
+        ("floor", settings.floor_resolution, &floor),
+    ] {
+        if s.status != RunStatus::Completed {
+            return Err(ReferenceError::RunFailed {
+                what,
+                resolution: res,
+                status: s.status,
+                message: s.message.clone(),
+            });
+        }
+    }
+    let trajectory = reference.trajectory.clone().expect("sampled run");
+    let floor_traj = floor.trajectory.clone().expect("sampled run");
+    let e: ErrorReport = metrics::compare(&floor_traj, &trajectory)?;
+    let header = ReferenceHeader {
+        format: CACHE_FORMAT,
+        key,
+        scene: base.scene.name.clone(),
+        settings: settings.clone(),
+        integrator: reference.integrator.clone(),
+        beta: reference_scene.scene.time.beta,
+        samples: (*samples).clone(),
+        times: trajectory.times.clone(),
+        final_vertices: trajectory.final_vertices.len(),
+        steps: reference.steps,
+        wall_s: reference.wall_time_s,
+        sim_time: reference.sim_time,
+        floor: Floor {
+            resolution: settings.floor_resolution,
+            e_rms: e.e_rms,
+            e_final: e.e_final,
+            tracked_err: e.tracked_err,
+            hausdorff: e.hausdorff,
+            wall_s: floor.wall_time_s,
+            steps: floor.steps,
+        },
+        physics: physics_json(&reference_scene.scene),
+    };
+    write_bin(&bin, &header, &trajectory)?;
+    Ok(Reference {
+        header,
+        trajectory,
+        dir,
+        cached: false,
+    })
+}
+
+/// Writes `reference.bin` atomically.
+pub fn write_bin(
+    path: &Path,
+    header: &ReferenceHeader,
+    t: &Trajectory,
+) -> Result<(), ReferenceError> {
+    let json = serde_json::to_vec(header).map_err(|e| ReferenceError::Malformed {
+        path: path.display().to_string(),
+        why: e.to_string(),
+    })?;
+    let mut bytes =
+        Vec::with_capacity(16 + json.len() + 12 * (t.positions.len() + t.final_vertices.len()));
+    bytes.extend_from_slice(MAGIC);
+    bytes.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    bytes.extend_from_slice(&json);
+    for p in t.positions.iter().chain(&t.final_vertices) {
+        for c in p {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    crate::output::write_atomic(path, &bytes).map_err(io_err(path))
+}
+
+/// Reads `reference.bin`.
+pub fn read_bin(path: &Path) -> Result<(ReferenceHeader, Trajectory), ReferenceError> {
+    let malformed = |why: &str| ReferenceError::Malformed {
+        path: path.display().to_string(),
+        why: why.to_string(),
+    };
+    let mut f = std::fs::File::open(path).map_err(io_err(path))?;
+    let mut bytes = Vec::new();
+    f.read_to_end(&mut bytes).map_err(io_err(path))?;
+    if bytes.len() < 12 || &bytes[..8] != MAGIC {
+        return Err(malformed("bad magic"));
+    }
+    let n = u32::from_le_bytes(bytes[8..12].try_into().expect("4 bytes")) as usize;
+    let json = bytes
+        .get(12..12 + n)
+        .ok_or_else(|| malformed("short header"))?;
+    let header: ReferenceHeader =
+        serde_json::from_slice(json).map_err(|e| malformed(&e.to_string()))?;
+    let points = header.samples.len();
+    let frames = header.times.len();
+    let body = &bytes[12 + n..];
+    let floats: Vec<f32> = body
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes(c.try_into().expect("4 bytes")))
+        .collect();
+    let want = 3 * (frames * points + header.final_vertices);
+    if floats.len() != want || body.len() % 4 != 0 {
+        return Err(malformed(&format!(
+            "{} floats, expected {want}",
+            floats.len()
+        )));
+    }
+    let triples: Vec<[f32; 3]> = floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let (positions, final_vertices) = triples.split_at(frames * points);
+    let trajectory = Trajectory {
+        points,
+        grid: header.samples.grid,
+        side: header.samples.side,
+        times: header.times.clone(),
+        positions: positions.to_vec(),
+        final_vertices: final_vertices.to_vec(),
+        adapt: Default::default(),
+    };
+    Ok((header, trajectory))
+}
+
+/// A human-readable summary of a reference and its floor.
+pub fn describe(r: &Reference) -> String {
+    let h = &r.header;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "reference {scene}: static {n}x{n}, {integ}, beta {beta}, dt_initial {dti}, {steps} steps, {wall:.1} s wall{cached}",
+        scene = h.scene,
+        n = h.settings.resolution,
+        integ = h.integrator,
+        beta = h.beta,
+        dti = h
+            .settings
+            .dt_initial
+            .map_or("as the scene".to_string(), |d| format!("{d} s")),
+        steps = h.steps,
+        wall = h.wall_s,
+        cached = if r.cached { " (cached)" } else { "" }
+    );
+    let f = &h.floor;
+    let _ = writeln!(
+        s,
+        "error floor ({m}x{m} against {n}x{n}): e_rms {:.3e} m, e_final {:.3e} m, tracked {:.3e} m, Hausdorff {:.3e} m ({:.1} s wall)",
+        f.e_rms,
+        f.e_final,
+        f.tracked_err,
+        f.hausdorff,
+        f.wall_s,
+        m = f.resolution,
+        n = h.settings.resolution,
+    );
+    let _ = write!(s, "cache: {}", r.dir.display());
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_embedded;
+
+    fn sphere(overrides: &[&str]) -> LoadedScene {
+        let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+        load_embedded("sphere", &o).unwrap().unwrap()
+    }
+
+    #[test]
+    fn cache_key_changes_with_physics_only() {
+        let settings = ReferenceSettings::default();
+        let base = cache_key(&sphere(&[]), &settings);
+        assert_eq!(base.len(), 16);
+        assert_eq!(base, cache_key(&sphere(&[]), &settings), "deterministic");
+        // Physics parameters change it.
+        for o in [
+            "material.E=2e7",
+            "material.rho=6001",
+            "obstacles.0.radius=0.3",
+            "time.duration=0.5",
+            "forces.drag=false",
+            "collision.margin=0.003",
+        ] {
+            assert_ne!(base, cache_key(&sphere(&[o]), &settings), "{o}");
+        }
+        // Reference settings change it.
+        for s in [
+            ReferenceSettings {
+                resolution: 33,
+                ..settings.clone()
+            },
+            ReferenceSettings {
+                beta: Some(0.02),
+                ..settings.clone()
+            },
+            ReferenceSettings {
+                samples: 32,
+                ..settings.clone()
+            },
+            ReferenceSettings {
+                dt_initial: None,
+                ..settings.clone()
+            },
+            ReferenceSettings {
+                integrator: Some("symplectic_euler".into()),
+                ..settings.clone()
+            },
+        ] {
+            assert_ne!(base, cache_key(&sphere(&[]), &s), "{s:?}");
+        }
+        // Output and adaptivity settings, the run's own grid, step and strategy do not (the
+        // reference replaces them), nor does the output folder (not an input of the key).
+        for o in [
+            "name=\"other\"",
+            "time.metrics_rate=50",
+            "adaptivity.l_min=0.05",
+            "adaptivity.strategy=\"remesh\"",
+            "cloth.resolution=9",
+            "time.beta=0.002",
+            "time.dt_initial=0.0002",
+        ] {
+            assert_eq!(base, cache_key(&sphere(&[o]), &settings), "{o}");
+        }
+        let mut moved = sphere(&[]);
+        moved.source = "/elsewhere/out".into();
+        assert_eq!(base, cache_key(&moved, &settings));
+    }
+
+    #[test]
+    fn fnv1a_known_values() {
+        // Test vectors of the FNV-1a 64-bit hash.
+        assert_eq!(fnv1a(FNV_OFFSET, b""), 0xcbf29ce484222325);
+        assert_eq!(fnv1a(FNV_OFFSET, b"a"), 0xaf63dc4c8601ec8c);
+        assert_eq!(fnv1a(FNV_OFFSET, b"foobar"), 0x85944171f73967e8);
+    }
+
+    #[test]
+    fn bin_round_trip() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("reference.bin");
+        let samples = SamplePoints {
+            rest: vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5]],
+            grid: 2,
+            side: 0,
+        };
+        let t = Trajectory {
+            points: 3,
+            grid: 2,
+            side: 0,
+            times: vec![0.0, 0.5],
+            positions: (0..6).map(|i| [i as f32, 0.5, -1.25 * i as f32]).collect(),
+            final_vertices: vec![[1.0, 2.0, 3.0]],
+            adapt: Default::default(),
+        };
+        let header = ReferenceHeader {
+            format: CACHE_FORMAT,
+            key: "0123456789abcdef".into(),
+            scene: "s".into(),
+            settings: ReferenceSettings::default(),
+            integrator: "rk4".into(),
+            beta: 0.01,
+            samples,
+            times: t.times.clone(),
+            final_vertices: 1,
+            steps: 10,
+            wall_s: 1.0,
+            sim_time: 0.5,
+            floor: Floor {
+                resolution: 3,
+                e_rms: 0.1,
+                e_final: 0.2,
+                tracked_err: 0.3,
+                hausdorff: 0.4,
+                wall_s: 0.5,
+                steps: 6,
+            },
+            physics: serde_json::json!({"a": 1}),
+        };
+        write_bin(&path, &header, &t).unwrap();
+        let (h, back) = read_bin(&path).unwrap();
+        assert_eq!(h, header);
+        assert_eq!(back, t);
+        // A truncated file is reported, not misread.
+        let bytes = std::fs::read(&path).unwrap();
+        std::fs::write(&path, &bytes[..bytes.len() - 4]).unwrap();
+        assert!(matches!(
+            read_bin(&path),
+            Err(ReferenceError::Malformed { .. })
+        ));
+    }
+}

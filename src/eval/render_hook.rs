@@ -1,0 +1,141 @@
+//! The calls into the rendering code (`render::snapshot_grid` for the snapshot PNG,
+//! `report_html::write_report_html` for the self-contained `report.html`), kept in two small
+//! functions; a rendering failure is reported in the report, never fatal to the comparison.
+
+use super::compare::Comparison;
+use std::path::{Path, PathBuf};
+
+/// What a rendering call produced.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RenderOutcome {
+    /// The file written.
+    Written(PathBuf),
+    /// Rendering failed (the message says why); the rest of the report is still written.
+    Failed(String),
+}
+
+/// Fractions of the duration at which snapshots are taken (like the source's Figures 5.2, 5.7,
+/// 5.12: four times per run).
+pub const SNAPSHOT_FRACTIONS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
+
+pub use crate::report_html::HtmlSection as Section;
+
+/// The frames of a run folder with their times (s), read from each OBJ's first line.
+pub fn frame_times(run_dir: &Path) -> Vec<(f64, PathBuf)> {
+    let Ok(entries) = std::fs::read_dir(run_dir.join("frames")) else {
+        return Vec::new();
+    };
+    let mut files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "obj"))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .filter_map(|p| Some((crate::render::read_obj_frame_time(&p).ok()??, p)))
+        .collect()
+}
+
+/// The frames nearest to each of `targets` (s).
+pub fn pick_frames(frames: &[(f64, PathBuf)], targets: &[f64]) -> Vec<(f64, PathBuf)> {
+    targets
+        .iter()
+        .filter_map(|&t| {
+            frames
+                .iter()
+                .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))
+                .cloned()
+        })
+        .collect()
+}
+
+/// Runs shown in snapshots and replays: `(label, run folder)` for every run that wrote frames,
+/// the reference first.
+pub fn shown_runs(out: &Path, c: &Comparison) -> Vec<(String, PathBuf)> {
+    let mut v = vec![(
+        format!("reference {0}x{0}", c.manifest.reference.resolution),
+        c.manifest.reference.dir.join("reference"),
+    )];
+    for r in &c.rows {
+        v.push((r.label.clone(), out.join("runs").join(&r.label)));
+    }
+    v.retain(|(_, d)| d.join("frames").is_dir());
+    v
+}
+
+/// Writes `out/snapshots.png`: one row per run, one column per snapshot time.
+pub fn snapshots(out: &Path, c: &Comparison) -> RenderOutcome {
+    use crate::render::{obstacle_meshes, read_obj_frame, snapshot_grid, SnapshotRow};
+    let targets: Vec<f64> = SNAPSHOT_FRACTIONS
+        .iter()
+        .map(|f| f * c.manifest.duration)
+        .collect();
+    let mut rows = Vec::new();
+    for (label, dir) in shown_runs(out, c) {
+        let mut frames = Vec::new();
+        for (t, path) in pick_frames(&frame_times(&dir), &targets) {
+            match read_obj_frame(&path) {
+                Ok(m) => frames.push((t, m)),
+                Err(e) => return RenderOutcome::Failed(format!("{}: {e}", path.display())),
+            }
+        }
+        rows.push(SnapshotRow { label, frames });
+    }
+    let obstacles = match obstacle_meshes(&c.manifest.obstacles, &c.manifest.base_dir) {
+        Ok(o) => o,
+        Err(e) => return RenderOutcome::Failed(format!("obstacles: {e}")),
+    };
+    let path = out.join("snapshots.png");
+    match snapshot_grid(&rows, &obstacles, &path) {
+        Ok(()) => RenderOutcome::Written(path),
+        Err(e) => RenderOutcome::Failed(e.to_string()),
+    }
+}
+
+/// Writes `out/report.html` with the sections and a 3D replay of every run.
+pub fn html(out: &Path, c: &Comparison, title: &str, sections: &[Section]) -> RenderOutcome {
+    use crate::render::{obstacle_meshes, read_obj_frame};
+    use crate::report_html::{write_report_html, ReplayRun};
+    let mut replays = Vec::new();
+    for (label, dir) in shown_runs(out, c).into_iter().skip(1) {
+        let mut run = ReplayRun {
+            label,
+            frame_times: Vec::new(),
+            frames: Vec::new(),
+        };
+        for (t, path) in frame_times(&dir) {
+            match read_obj_frame(&path) {
+                Ok(m) => {
+                    run.frame_times.push(t);
+                    run.frames.push(m);
+                }
+                Err(e) => return RenderOutcome::Failed(format!("{}: {e}", path.display())),
+            }
+        }
+        replays.push(run);
+    }
+    let obstacles = match obstacle_meshes(&c.manifest.obstacles, &c.manifest.base_dir) {
+        Ok(o) => o,
+        Err(e) => return RenderOutcome::Failed(format!("obstacles: {e}")),
+    };
+    let path = out.join("report.html");
+    match write_report_html(&path, title, sections, &replays, &obstacles) {
+        Ok(()) => RenderOutcome::Written(path),
+        Err(e) => RenderOutcome::Failed(e.to_string()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn picks_nearest_frames() {
+        let frames: Vec<(f64, PathBuf)> = (0..=6)
+            .map(|k| (k as f64 * 0.1, PathBuf::from(format!("f{k}"))))
+            .collect();
+        let picked = pick_frames(&frames, &[0.15, 0.3, 0.44, 0.6]);
+        let names: Vec<String> = picked.iter().map(|p| p.1.display().to_string()).collect();
+        assert_eq!(names, ["f1", "f3", "f4", "f6"]);
+    }
+}

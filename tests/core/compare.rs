@@ -1,0 +1,191 @@
+//! `adaptcloth reference`, `compare`, `merge` end to end on tiny configurations (a 9x9 reference,
+//! 3x3 and 5x5 runs, 0.15 s so the cloth touches the sphere): the files exist, the table parses,
+//! the reference is cached, and sharded runs merge into the same numbers as one run.
+use adaptcloth::eval::compare::{read_csv, CSV_COLUMNS};
+use std::path::Path;
+use std::process::Command;
+
+fn adaptcloth(args: &[&str]) -> (i32, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .args(args)
+        .output()
+        .expect("binary runs");
+    let text =
+        String::from_utf8_lossy(&out.stderr).into_owned() + &String::from_utf8_lossy(&out.stdout);
+    (out.status.code().unwrap_or(-1), text)
+}
+
+const RUNS: &str = "static@3,static@5,remesh";
+
+const TINY: &[&str] = &[
+    "--ref-resolution",
+    "9",
+    "--floor-resolution",
+    "5",
+    "--samples",
+    "12",
+    "--duration",
+    "0.15",
+    "--quiet",
+];
+
+fn compare_into(out: &Path, cache: &Path, runs: &str, extra: &[&str]) -> String {
+    let mut args = vec![
+        "compare",
+        "sphere",
+        "--runs",
+        runs,
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ];
+    args.extend_from_slice(TINY);
+    args.extend_from_slice(extra);
+    let (code, text) = adaptcloth(&args);
+    assert_eq!(code, 0, "{text}");
+    text
+}
+
+#[test]
+fn tiny_compare_end_to_end_with_cache_shards_and_merge() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let full = dir.path().join("full");
+    let text = compare_into(&full, &cache, RUNS, &["--jobs", "2"]);
+    assert!(!text.contains("(cached)"), "first run computes: {text}");
+
+    for f in [
+        "comparison.csv",
+        "comparison.json",
+        "report.md",
+        "speed_error.svg",
+        "speed_error.png",
+        "elements.svg",
+        "step.svg",
+        "tracked.svg",
+        "error.svg",
+        "runs/static-3-rk4/metrics.csv",
+        "runs/static-3-rk4/error.csv",
+        "runs/static-5-rk4/summary.json",
+    ] {
+        assert!(full.join(f).is_file(), "missing {f}");
+    }
+    let header = std::fs::read_to_string(full.join("comparison.csv")).unwrap();
+    assert_eq!(header.lines().next().unwrap(), CSV_COLUMNS.join(","));
+    let rows = read_csv(&full.join("comparison.csv")).unwrap();
+    let labels: Vec<&str> = rows.iter().map(|r| r.label.as_str()).collect();
+    assert!(
+        labels.starts_with(&["static-3-rk4", "static-5-rk4"]),
+        "{labels:?}"
+    );
+    for r in &rows {
+        assert_eq!(r.status, "completed", "{}", r.label);
+        assert!(r.steps > 0 && r.wall_s > 0.0);
+        // The cloth has touched the sphere: the coarse runs differ from the 9x9 reference.
+        assert!(
+            r.e_rms.is_finite() && r.e_rms > 1e-5,
+            "{}: {}",
+            r.label,
+            r.e_rms
+        );
+        assert!(r.e_final.is_finite() && r.e_final >= 0.0);
+        assert!(r.tracked_err.is_finite() && r.hausdorff.is_finite());
+        assert!(r.e_rms <= r.e_final * 10.0 + 1.0, "sane magnitudes");
+        assert!((r.sim_time - 0.15).abs() < 1e-9);
+    }
+    let report = std::fs::read_to_string(full.join("report.md")).unwrap();
+    assert!(report.contains("Error floor"), "{report}");
+    // remesh is either compared or listed as skipped, never silently dropped.
+    assert!(
+        labels.contains(&"remesh-5-rk4") || report.contains("`remesh-5-rk4`: strategy"),
+        "{report}"
+    );
+
+    // The reference is read from the cache the second time (one entry).
+    let again = dir.path().join("again");
+    let text = compare_into(&again, &cache, "static@3", &[]);
+    assert!(text.contains("(cached)"), "{text}");
+    assert_eq!(std::fs::read_dir(&cache).unwrap().count(), 1);
+
+    // Two shards, merged, give the same runs with the same errors (runs are deterministic).
+    let s1 = dir.path().join("s1");
+    let s2 = dir.path().join("s2");
+    compare_into(&s1, &cache, RUNS, &["--shard", "1/2"]);
+    compare_into(&s2, &cache, RUNS, &["--shard", "2/2"]);
+    let n1 = read_csv(&s1.join("comparison.csv")).unwrap().len();
+    let n2 = read_csv(&s2.join("comparison.csv")).unwrap().len();
+    assert_eq!(n1 + n2, rows.len());
+    assert!(n1 >= 1 && n2 >= 1);
+    let merged = dir.path().join("merged");
+    let (code, text) = adaptcloth(&[
+        "merge",
+        s1.to_str().unwrap(),
+        s2.to_str().unwrap(),
+        "--out",
+        merged.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{text}");
+    let m = read_csv(&merged.join("comparison.csv")).unwrap();
+    assert_eq!(m.len(), rows.len());
+    for (a, b) in m.iter().zip(&rows) {
+        assert_eq!(a.label, b.label);
+        assert_eq!(a.steps, b.steps);
+        assert!(
+            (a.e_rms - b.e_rms).abs() <= 1e-9 * b.e_rms.abs(),
+            "{}",
+            a.label
+        );
+        assert!(merged
+            .join("runs")
+            .join(&a.label)
+            .join("metrics.csv")
+            .is_file());
+    }
+    assert!(merged.join("speed_error.svg").is_file());
+    // Merging a shard twice is refused.
+    let (code, text) = adaptcloth(&[
+        "merge",
+        s1.to_str().unwrap(),
+        s1.to_str().unwrap(),
+        "--out",
+        dir.path().join("bad").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 2, "{text}");
+}
+
+#[test]
+fn reference_command_reports_the_floor_and_bad_options_exit_2() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let (code, text) = adaptcloth(&[
+        "reference",
+        "sphere",
+        "--ref-resolution",
+        "5",
+        "--floor-resolution",
+        "3",
+        "--samples",
+        "8",
+        "--duration",
+        "0.02",
+        "--cache",
+        cache.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{text}");
+    assert!(text.contains("error floor (3x3 against 5x5)"), "{text}");
+    let entry = std::fs::read_dir(&cache).unwrap().next().unwrap().unwrap();
+    assert!(entry.path().join("reference.bin").is_file());
+    for (args, needle) in [
+        (vec!["compare", "--runs", "magic"], "unknown strategy"),
+        (vec!["compare", "--shard", "3/2"], "--shard"),
+        (vec!["compare", "--integrators", "leapfrog"], "leapfrog"),
+        (vec!["reference", "--ref-beta=-1"], "--ref-beta"),
+        (vec!["compare", "--runs", "static@1"], "at least 2"),
+    ] {
+        let (code, text) = adaptcloth(&args);
+        assert_eq!(code, 2, "{args:?}: {text}");
+        assert!(text.contains(needle), "{args:?}: {text}");
+    }
+}
