@@ -254,7 +254,10 @@ impl Hierarchy {
                 ));
             }
             if t.depth > max_depth {
-                return Err(format!("triangle {key:?} at depth {} > {max_depth}", t.depth));
+                return Err(format!(
+                    "triangle {key:?} at depth {} > {max_depth}",
+                    t.depth
+                ));
             }
             for k in 0..3 {
                 let e = t.edge(k);
@@ -285,7 +288,10 @@ impl Hierarchy {
                 continue;
             }
             if t.children.is_some() {
-                return Err(format!("triangle {key:?} in state {} has children", t.state));
+                return Err(format!(
+                    "triangle {key:?} in state {} has children",
+                    t.state
+                ));
             }
             let mut want: Vec<[VertexId; 3]> = self
                 .active_faces(mesh, t, bits, None)
@@ -295,7 +301,9 @@ impl Hierarchy {
             let mut have: Vec<[VertexId; 3]> = Vec::new();
             for &f in &t.faces {
                 if !mesh.is_face(f) || self.owner.get(&f) != Some(&key) {
-                    return Err(format!("triangle {key:?} owns face {f:?} which is not live"));
+                    return Err(format!(
+                        "triangle {key:?} owns face {f:?} which is not live"
+                    ));
                 }
                 have.push(canonical(mesh.face(f)));
                 owned.insert(f);

@@ -18,8 +18,7 @@ pub mod strategy;
 mod tests;
 
 pub use hierarchy::{
-    bits_of, canonical, state_of, EdgeNode, EdgeRole, Hierarchy, TriKey, TriNode,
-    TEMPORARY_STATE,
+    bits_of, canonical, state_of, EdgeNode, EdgeRole, Hierarchy, TriKey, TriNode, TEMPORARY_STATE,
 };
 pub use ops::{ClothTarget, MeshTarget, OpError, OpKind, OpRecord};
 pub use strategy::{depth_angle_limit, Simnett};

@@ -15,7 +15,7 @@ use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::Real;
 use crate::mesh::{
-    Edit, EditError, EditRecord, EdgeKey, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef,
+    EdgeKey, Edit, EditError, EditRecord, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef,
 };
 
 /// Where an operation's edit goes: the bare mesh, or the cloth with state transfer.

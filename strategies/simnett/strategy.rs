@@ -13,8 +13,8 @@
 
 use super::hierarchy::{EdgeRole, Hierarchy};
 use super::ops::{ClothTarget, OpError, OpRecord};
-use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
 use crate::adapt::RefineReason;
+use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::Real;

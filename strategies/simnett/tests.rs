@@ -161,10 +161,25 @@ fn preconditions_are_named_and_leave_everything_untouched() {
             "max depth 0",
         ),
     ];
-    assert!(matches!(checks[0].0, OpError::NotSplit(_)), "{}", checks[0].0);
-    assert!(matches!(checks[1].0, OpError::NotAnEdge(_)), "{}", checks[1].0);
     assert!(
-        matches!(checks[2].0, OpError::MaxDepth { depth: 0, max_depth: 0, .. }),
+        matches!(checks[0].0, OpError::NotSplit(_)),
+        "{}",
+        checks[0].0
+    );
+    assert!(
+        matches!(checks[1].0, OpError::NotAnEdge(_)),
+        "{}",
+        checks[1].0
+    );
+    assert!(
+        matches!(
+            checks[2].0,
+            OpError::MaxDepth {
+                depth: 0,
+                max_depth: 0,
+                ..
+            }
+        ),
         "{}",
         checks[2].0
     );

@@ -82,7 +82,12 @@ fn check_all(
     if let Err(e) = h.check(mesh, max_depth) {
         return Err(TestCaseError::fail(format!("{what}: hierarchy: {e}")));
     }
-    prop_assert!(h.max_depth() <= max_depth, "{}: depth {}", what, h.max_depth());
+    prop_assert!(
+        h.max_depth() <= max_depth,
+        "{}: depth {}",
+        what,
+        h.max_depth()
+    );
     let mass = cloth.model.total_mass();
     prop_assert!(
         (mass - r.mass).abs() <= REL * r.mass,
@@ -155,7 +160,12 @@ fn run(
             cloth.v[w.0 as usize] += Vec3::new(noise(0.2), noise(0.2), noise(0.2));
         }
         reference.momentum = cloth.linear_momentum();
-        let before = (cloth.mesh.clone(), h.clone(), cloth.x.clone(), cloth.v.clone());
+        let before = (
+            cloth.mesh.clone(),
+            h.clone(),
+            cloth.x.clone(),
+            cloth.v.clone(),
+        );
         let topology = (triples(&cloth.mesh), rest_points(&cloth.mesh));
         let what = format!("op {i} kind {kind} on {e:?}");
         let mut target = ClothTarget::new(&mut cloth, None, true);
@@ -176,7 +186,12 @@ fn run(
             ),
         };
         cloth.refresh();
-        prop_assert_eq!(&result, &result_bare, "{}: cloth and bare mesh disagree", what);
+        prop_assert_eq!(
+            &result,
+            &result_bare,
+            "{}: cloth and bare mesh disagree",
+            what
+        );
         prop_assert!(cloth.mesh == bare, "{}: meshes differ", what);
         prop_assert!(h == hb, "{}: hierarchies differ", what);
         if let Err(err) = &result {
@@ -202,7 +217,12 @@ fn run(
             let undo = h.merge_edge(&mut target, e, i as Real);
             let undo_bare = hb.merge_edge(&mut bare, e, i as Real);
             cloth.refresh();
-            prop_assert!(undo.is_ok(), "{}: merge after split refused: {:?}", what, undo);
+            prop_assert!(
+                undo.is_ok(),
+                "{}: merge after split refused: {:?}",
+                what,
+                undo
+            );
             prop_assert_eq!(&undo, &undo_bare);
             check_all(&cloth, &h, max_depth, &reference, &what)?;
             prop_assert_eq!(
