@@ -7,7 +7,7 @@
 //! error leaves everything untouched. A split immediately merged restores the mesh
 //! exactly; merging everything at the end returns the initial mesh.
 //!
-//! Cases: `PROPTEST_CASES` (default 24).
+//! Cases: `PROPTEST_CASES` (default 64).
 
 use super::*;
 use proptest::prelude::*;
@@ -19,7 +19,7 @@ fn config() -> ProptestConfig {
     let cases = std::env::var("PROPTEST_CASES")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(24);
+        .unwrap_or(64);
     ProptestConfig::with_cases(cases)
 }
 
