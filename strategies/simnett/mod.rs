@@ -5,7 +5,8 @@
 //!   the consistency checker [`Hierarchy::check`].
 //! - [`ops`]: the elementary operations [`Hierarchy::split_edge`], [`Hierarchy::merge_edge`] (and
 //!   the `force_completion` variant [`Hierarchy::split_edge_forced`]), each ONE checked
-//!   [`crate::mesh::Edit`] applied to a [`MeshTarget`] (the bare mesh or the cloth).
+//!   [`crate::mesh::Edit`] applied to a [`MeshTarget`].
+//! - [`target`]: [`MeshTarget`], the bare mesh or the cloth ([`ClothTarget`]).
 //! - [`strategy`]: the [`crate::adapt::Adaptivity`] implementation driven by the shared criteria.
 //!
 //! Design notes and the state table: `docs/strategies/simnett.md`.
@@ -13,6 +14,7 @@
 pub mod hierarchy;
 pub mod ops;
 pub mod strategy;
+pub mod target;
 
 #[cfg(test)]
 mod tests;
@@ -20,5 +22,6 @@ mod tests;
 pub use hierarchy::{
     bits_of, canonical, state_of, EdgeNode, EdgeRole, Hierarchy, TriKey, TriNode, TEMPORARY_STATE,
 };
-pub use ops::{ClothTarget, MeshTarget, OpError, OpKind, OpRecord};
+pub use ops::{OpError, OpKind, OpRecord};
 pub use strategy::{depth_angle_limit, Simnett};
+pub use target::{ClothTarget, MeshTarget};

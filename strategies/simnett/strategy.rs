@@ -12,7 +12,8 @@
 //! least `t_simplify` old; deepest first.
 
 use super::hierarchy::{EdgeRole, Hierarchy};
-use super::ops::{ClothTarget, OpError, OpRecord};
+use super::ops::{OpError, OpRecord};
+use super::target::ClothTarget;
 use crate::adapt::RefineReason;
 use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
 use crate::cloth::Cloth;
