@@ -3,6 +3,7 @@
 //! `--strategy` value (`static_mesh` for `static`, a Rust keyword).
 
 pub mod bisect48;
+pub mod simnett;
 mod static_mesh;
 
 pub use static_mesh::StaticMesh;
@@ -28,6 +29,7 @@ pub fn make_strategy(name: &str) -> Result<Box<dyn Adaptivity>, StrategyError> {
     match name {
         "static" => Ok(Box::new(StaticMesh)),
         "bisect48" => Ok(Box::new(bisect48::Bisect48::new())),
+        "simnett" => Ok(Box::new(simnett::Simnett::default())),
         other if STRATEGIES.contains(&other) => Err(StrategyError::NotBuilt(other.to_string())),
         other => Err(StrategyError::Unknown(other.to_string())),
     }

@@ -401,6 +401,11 @@ pub struct AdaptivitySpec {
     pub max_depth: u32,
     /// Cosine-limit factor per depth level (1-to-4). Default 0.95.
     pub depth_factor: Real,
+    /// 1-to-4 (`simnett`): when an edge selected for refinement is blocked by a temporary
+    /// (state -1) neighbour, first split the remaining edges of the blocking parent triangle so
+    /// the edge can split (the project's improvement). Default false: the source's faithful rule
+    /// (the edge waits until its parent triangle reaches state 7).
+    pub force_completion: bool,
 }
 
 impl Default for AdaptivitySpec {
@@ -422,6 +427,7 @@ impl Default for AdaptivitySpec {
             curvature_exponent: 0.5,
             max_depth: 3,
             depth_factor: 0.95,
+            force_completion: false,
         }
     }
 }
