@@ -2,6 +2,7 @@
 //! [`crate::adapt::Adaptivity`]. Naming rule: the module is named after the strategy's
 //! `--strategy` value (`static_mesh` for `static`, a Rust keyword).
 
+pub mod remesh;
 mod static_mesh;
 
 pub use static_mesh::StaticMesh;
@@ -26,6 +27,7 @@ pub enum StrategyError {
 pub fn make_strategy(name: &str) -> Result<Box<dyn Adaptivity>, StrategyError> {
     match name {
         "static" => Ok(Box::new(StaticMesh)),
+        "remesh" => Ok(Box::new(remesh::Remesh::new())),
         other if STRATEGIES.contains(&other) => Err(StrategyError::NotBuilt(other.to_string())),
         other => Err(StrategyError::Unknown(other.to_string())),
     }

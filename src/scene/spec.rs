@@ -397,6 +397,12 @@ pub struct AdaptivitySpec {
     pub max_depth: u32,
     /// Cosine-limit factor per depth level (1-to-4). Default 0.95.
     pub depth_factor: Real,
+    /// Simulated time between criteria evaluations (s); 0 evaluates after every step, as the
+    /// source did. Default 0.
+    pub interval: Real,
+    /// Local remeshing: minimum angle the hole mesher keeps away from the hole border (degrees).
+    /// Default 25.
+    pub remesh_min_angle: Real,
 }
 
 impl Default for AdaptivitySpec {
@@ -417,6 +423,8 @@ impl Default for AdaptivitySpec {
             curvature_exponent: 0.5,
             max_depth: 3,
             depth_factor: 0.95,
+            interval: 0.0,
+            remesh_min_angle: 25.0,
         }
     }
 }
