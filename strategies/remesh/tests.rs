@@ -423,3 +423,90 @@ proptest! {
         prop_assert!(applied > 0, "no operation was accepted");
     }
 }
+
+#[test]
+fn region_with_two_border_loops_keeps_its_island() {
+    // 9x9 grid, Chebyshev levels 0..4 around the centre (4, 4) = 40. Selecting every edge with
+    // both ends at levels 2 or 3 removes a band: the hole's border has an outer loop and an inner
+    // loop around the kept centre.
+    let mesh = union_jack(9, 9, 1.0, 1.0);
+    let level = |mesh: &Mesh, v: VertexId| {
+        let p = mesh.rest(v) * 8.0 - Vec2::new(4.0, 4.0);
+        p.abs().max().round() as i32
+    };
+    let band: Vec<EdgeKey> = mesh
+        .edges()
+        .map(|(k, _)| k)
+        .filter(|k| (2..=3).contains(&level(&mesh, k.0)) && (2..=3).contains(&level(&mesh, k.1)))
+        .collect();
+    let faces = region_faces(&mesh, &band).unwrap();
+    let border = super::region::hole_border(&mesh, &faces);
+    // Two loops: union the border's vertices along its edges.
+    let mut uf = petgraph::unionfind::UnionFind::<usize>::new(mesh.vertex_slots());
+    for b in &border {
+        uf.union(b.from.0 as usize, b.to.0 as usize);
+    }
+    let loops: BTreeSet<usize> = border.iter().map(|b| uf.find(b.from.0 as usize)).collect();
+    assert_eq!(loops.len(), 2, "{border:?}");
+    let kept: Vec<FaceId> = mesh.faces().filter(|f| !faces.contains(f)).collect();
+    let centre = VertexId(40);
+    assert!(mesh.vertex_faces(centre).iter().all(|f| !faces.contains(f)));
+    let area = rest_area(&mesh);
+    for mode in [Mode::Refine, Mode::Simplify] {
+        let mut m = mesh.clone();
+        let result = remesh_mesh(&mut m, &band, mode, &params(8));
+        if mode == Mode::Refine {
+            result.as_ref().expect("refining the band");
+        }
+        m.check().unwrap();
+        assert!((rest_area(&m) - area).abs() <= 1e-12 * area);
+        for &f in &kept {
+            assert!(m.is_face(f), "kept face {f:?} removed ({mode:?})");
+        }
+    }
+}
+
+/// A short sphere run with the strategy: the cloth lands on the sphere, the mesh refines there,
+/// every adaptation keeps the mesh conforming and the mass exact.
+#[test]
+fn sphere_contact_refines_where_the_cloth_meets_the_sphere() {
+    use crate::scene;
+    use crate::sim::Simulation;
+    let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let text = std::fs::read_to_string(base.join("sphere.toml")).unwrap();
+    let overrides = vec![
+        "adaptivity.strategy=remesh".to_string(),
+        "time.duration=0.2".to_string(),
+    ];
+    let loaded = scene::from_text(&text, "sphere.toml", "sphere", base, &overrides).unwrap();
+    let mut sim = Simulation::new(&loaded).unwrap();
+    let mass0 = sim.cloth.model.total_mass();
+    let mut events = 0;
+    while !sim.finished() {
+        let report = sim.step().unwrap();
+        if report.adapt.events > 0 {
+            events += report.adapt.events;
+            sim.cloth.mesh.check().unwrap();
+            let mass = sim.cloth.model.total_mass();
+            assert!((mass - mass0).abs() <= 1e-12 * mass0);
+        }
+    }
+    assert!(events > 0 && sim.cloth.mesh.vertex_count() > 25);
+    // New vertices concentrate where the cloth touches the sphere (radius 0.25 m, centre at the
+    // origin below the pattern's centre): more new vertices per rest area within 0.3 m of the
+    // pattern centre (0.5, 0.5) than outside (the free skirt folds and refines too).
+    let mesh = &sim.cloth.mesh;
+    let near_area = std::f64::consts::PI * 0.3 * 0.3;
+    let (mut near, mut far) = (0.0, 0.0);
+    for v in mesh.vertices().filter(|v| v.0 >= 25) {
+        if (mesh.rest(v) - Vec2::new(0.5, 0.5)).norm() < 0.3 {
+            near += 1.0;
+        } else {
+            far += 1.0;
+        }
+    }
+    assert!(
+        near / near_area > 2.0 * far / (1.0 - near_area),
+        "{near} new vertices near the contact, {far} elsewhere"
+    );
+}
