@@ -143,7 +143,7 @@ fn lattice_seeds(
     let row = h * Real::sqrt(3.0) / 2.0;
     let (nx, ny) = (((hi.x - lo.x) / h).ceil(), ((hi.y - lo.y) / row).ceil());
     // Keep the lattice bounded whatever the spacing (a refusal follows from the area budget).
-    if !(nx * ny <= 1.0e6) {
+    if nx.is_nan() || ny.is_nan() || nx * ny > 1.0e6 {
         return Vec::new();
     }
     let segments: Vec<(Vec2, Vec2)> = constraints
@@ -243,8 +243,7 @@ fn smooth(mesh: &mut HoleMesh, n_fixed: usize, passes: usize) {
         Some(worst)
     };
     for _ in 0..passes {
-        for v in n_fixed..n {
-            let nb = &neighbours[v];
+        for (v, nb) in neighbours.iter().enumerate().skip(n_fixed) {
             let centre = nb.iter().map(|&w| mesh.points[w]).sum::<Vec2>() / nb.len() as Real;
             let before = star_quality(&mesh.points, v, mesh.points[v]).unwrap_or(0.0);
             if let Some(after) = star_quality(&mesh.points, v, centre) {
