@@ -350,7 +350,7 @@ fn cases() -> ProptestConfig {
     let n = std::env::var("PROPTEST_CASES")
         .ok()
         .and_then(|s| s.parse().ok())
-        .unwrap_or(12);
+        .unwrap_or(64);
     ProptestConfig::with_cases(n)
 }
 
