@@ -40,7 +40,7 @@ fn bad_input_exits_2_with_a_clear_message() {
         ),
         (vec!["run", "--duration=-1"], "time.duration"),
         (
-            vec!["run", "--strategy", "remesh", "--out", out],
+            vec!["run", "--strategy", "simnett", "--out", out],
             "not built yet",
         ),
     ];
