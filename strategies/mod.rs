@@ -3,6 +3,7 @@
 //! `--strategy` value (`static_mesh` for `static`, a Rust keyword).
 
 pub mod bisect48;
+pub mod remesh;
 pub mod simnett;
 mod static_mesh;
 
@@ -17,11 +18,6 @@ pub enum StrategyError {
     /// The name is not a strategy.
     #[error("unknown strategy `{0}`; valid strategies: {list}", list = STRATEGIES.join(", "))]
     Unknown(String),
-    /// The strategy is specified but not implemented in this build.
-    #[error(
-        "strategy `{0}` is not built yet in this version of adaptcloth; built strategies: static"
-    )]
-    NotBuilt(String),
 }
 
 /// The strategy called `name` (see [`STRATEGIES`]).
@@ -30,7 +26,7 @@ pub fn make_strategy(name: &str) -> Result<Box<dyn Adaptivity>, StrategyError> {
         "static" => Ok(Box::new(StaticMesh)),
         "bisect48" => Ok(Box::new(bisect48::Bisect48::new())),
         "simnett" => Ok(Box::new(simnett::Simnett::default())),
-        other if STRATEGIES.contains(&other) => Err(StrategyError::NotBuilt(other.to_string())),
+        "remesh" => Ok(Box::new(remesh::Remesh::new())),
         other => Err(StrategyError::Unknown(other.to_string())),
     }
 }

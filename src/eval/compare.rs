@@ -12,7 +12,7 @@ use super::reference::{self, Floor, Reference, ReferenceError, ReferenceSettings
 use crate::physics::make_integrator;
 use crate::scene::{LoadedScene, ObstacleSpec, Scene, STRATEGIES};
 use crate::sim::{RunStatus, SamplePoints};
-use crate::strategies::{make_strategy, StrategyError};
+use crate::strategies::make_strategy;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -152,7 +152,7 @@ pub fn parse_configs(
 pub struct Skipped {
     /// Its label.
     pub label: String,
-    /// Why (e.g. the strategy is not built).
+    /// Why (e.g. the strategy is unknown).
     pub reason: String,
 }
 
@@ -163,11 +163,10 @@ pub fn split_built(configs: &[RunConfig]) -> (Vec<RunConfig>, Vec<Skipped>) {
     for c in configs {
         match make_strategy(&c.strategy) {
             Ok(_) => built.push(c.clone()),
-            Err(e @ StrategyError::NotBuilt(_)) | Err(e @ StrategyError::Unknown(_)) => skipped
-                .push(Skipped {
-                    label: c.label(),
-                    reason: e.to_string(),
-                }),
+            Err(e) => skipped.push(Skipped {
+                label: c.label(),
+                reason: e.to_string(),
+            }),
         }
     }
     (built, skipped)

@@ -406,6 +406,12 @@ pub struct AdaptivitySpec {
     /// the edge can split (the project's improvement). Default false: the source's faithful rule
     /// (the edge waits until its parent triangle reaches state 7).
     pub force_completion: bool,
+    /// Local remeshing: simulated time between criteria evaluations (s); 0 evaluates after every
+    /// step, as the source did. Default 0.
+    pub interval: Real,
+    /// Local remeshing: minimum angle the hole mesher keeps away from the hole border (degrees).
+    /// Default 25.
+    pub remesh_min_angle: Real,
 }
 
 impl Default for AdaptivitySpec {
@@ -428,6 +434,8 @@ impl Default for AdaptivitySpec {
             max_depth: 3,
             depth_factor: 0.95,
             force_completion: false,
+            interval: 0.0,
+            remesh_min_angle: 25.0,
         }
     }
 }

@@ -254,6 +254,14 @@ pub(super) fn validate(
         ));
     }
     c.non_negative("adaptivity.curvature_exponent", a.curvature_exponent)?;
+    c.non_negative("adaptivity.interval", a.interval)?;
+    if !(a.remesh_min_angle > 0.0 && a.remesh_min_angle <= 33.0) {
+        return Err(c.fail(
+            "adaptivity.remesh_min_angle",
+            a.remesh_min_angle,
+            "expected an angle in (0, 33] degrees (Delaunay refinement terminates below ~33)",
+        ));
+    }
 
     for (i, p) in scene.tracked.iter().enumerate() {
         if !p.rest.iter().all(|x| x.is_finite()) {

@@ -1,0 +1,336 @@
+//! The rest-space mesher of a hole (MODEL.md §8.2 step 6): a constrained Delaunay triangulation
+//! (spade) of the hole's border, seeded with a triangular lattice at the target spacing, refined to
+//! a maximum area and a minimum angle without splitting the border, then Laplacian smoothing of the
+//! new interior vertices.
+//!
+//! The lattice seeding stands in for the source's quadtree guide: spade's refinement with
+//! `keep_constraint_edges` may add no vertex next to long constraint edges (DEPENDENCIES.md), so
+//! the interior is seeded first and the refinement only repairs areas and angles.
+
+use super::RemeshError;
+use crate::math::{signed_area, Real, Vec2};
+use spade::{
+    AngleLimit, ConstrainedDelaunayTriangulation, Point2, RefinementParameters, Triangulation,
+};
+use std::collections::BTreeSet;
+
+/// How to mesh one hole.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct HoleParams {
+    /// Target edge length of the new elements (m).
+    pub spacing: Real,
+    /// Minimum angle the refinement tries to keep (degrees).
+    pub angle_limit_deg: Real,
+    /// Refinement area limit as a multiple of the equilateral triangle of side `spacing`.
+    pub area_slack: Real,
+    /// Lattice seeds closer than `seed_clearance * max(spacing, segment length)` to a border
+    /// segment, or than `seed_clearance * spacing` to a fixed point, are dropped (room for a
+    /// well-shaped triangle on every border edge, which the mesher may not split).
+    pub seed_clearance: Real,
+    /// Laplacian smoothing passes over the new interior vertices.
+    pub smoothing_passes: usize,
+    /// Budget of vertices the refinement may add (seeds not included).
+    pub max_refinement_vertices: usize,
+}
+
+/// A meshed hole: the fixed points first (same indices as the input), then the new interior
+/// points; counter-clockwise triangles.
+#[derive(Clone, Debug)]
+pub(super) struct HoleMesh {
+    /// Rest positions (m).
+    pub points: Vec<Vec2>,
+    /// Triangles as indices into `points`.
+    pub triangles: Vec<[usize; 3]>,
+}
+
+/// Meshes the region enclosed by the directed border `constraints` (indices into `fixed`, the hole
+/// on their left; several loops allowed: a point is inside when its crossing parity is odd).
+/// Every fixed point must be used; new points lie strictly inside the hole.
+pub(super) fn mesh_hole(
+    fixed: &[Vec2],
+    constraints: &[[usize; 2]],
+    hints: &[Vec2],
+    p: &HoleParams,
+) -> Result<HoleMesh, RemeshError> {
+    let fail = |why: String| RemeshError::Mesher(why);
+    if !(p.spacing.is_finite() && p.spacing > 0.0) {
+        return Err(fail(format!(
+            "target spacing {} is not positive",
+            p.spacing
+        )));
+    }
+    let mut points: Vec<Point2<Real>> = fixed.iter().map(|q| Point2::new(q.x, q.y)).collect();
+    let seeds = lattice_seeds(fixed, constraints, hints, p);
+    points.extend(seeds.iter().map(|q| Point2::new(q.x, q.y)));
+    let n_input = points.len();
+    let mut cdt = ConstrainedDelaunayTriangulation::<Point2<Real>>::bulk_load_cdt(
+        points,
+        constraints.to_vec(),
+    )
+    .map_err(|e| fail(format!("spade could not load the hole: {e:?}")))?;
+    if cdt.num_vertices() != n_input {
+        return Err(fail("duplicate points in the hole border".into()));
+    }
+    let max_area = p.area_slack * Real::sqrt(3.0) / 4.0 * p.spacing * p.spacing;
+    let result = cdt.refine(
+        RefinementParameters::new()
+            .with_max_allowed_area(max_area)
+            .with_angle_limit(AngleLimit::from_deg(p.angle_limit_deg))
+            .with_max_additional_vertices(p.max_refinement_vertices)
+            .keep_constraint_edges()
+            .exclude_outer_faces(true),
+    );
+    let excluded: BTreeSet<usize> = result.excluded_faces.iter().map(|f| f.index()).collect();
+    let all: Vec<Vec2> = cdt
+        .vertices()
+        .map(|v| Vec2::new(v.position().x, v.position().y))
+        .collect();
+    let mut triangles: Vec<[usize; 3]> = cdt
+        .inner_faces()
+        .filter(|f| !excluded.contains(&f.fix().index()))
+        .map(|f| f.vertices().map(|v| v.fix().index()))
+        .collect();
+    // Compact: keep the fixed points, then the new points some triangle uses, in spade's order.
+    let mut used = vec![false; all.len()];
+    for t in &triangles {
+        for &i in t {
+            used[i] = true;
+        }
+    }
+    if let Some(i) = (0..fixed.len()).find(|&i| !used[i]) {
+        return Err(fail(format!(
+            "border point {i} is outside every new triangle"
+        )));
+    }
+    let mut map = vec![usize::MAX; all.len()];
+    let mut out = Vec::with_capacity(all.len());
+    for (i, q) in all.iter().enumerate() {
+        if i < fixed.len() || used[i] {
+            map[i] = out.len();
+            out.push(if i < fixed.len() { fixed[i] } else { *q });
+        }
+    }
+    for t in &mut triangles {
+        *t = t.map(|i| map[i]);
+    }
+    let mut mesh = HoleMesh {
+        points: out,
+        triangles,
+    };
+    smooth(&mut mesh, fixed.len(), p.smoothing_passes);
+    Ok(mesh)
+}
+
+/// Hint points closer than this multiple of the spacing to the border are dropped.
+const HINT_CLEARANCE: Real = 0.25;
+
+/// Points of a triangular lattice of spacing `p.spacing` inside the hole, clear of the border and
+/// of the fixed points, then the hints (e.g. the removed faces' centroids) that are inside, at
+/// least `HINT_CLEARANCE` spacings from the border and clear of the points already chosen.
+fn lattice_seeds(
+    fixed: &[Vec2],
+    constraints: &[[usize; 2]],
+    hints: &[Vec2],
+    p: &HoleParams,
+) -> Vec<Vec2> {
+    let (mut lo, mut hi) = (Vec2::repeat(Real::INFINITY), Vec2::repeat(-Real::INFINITY));
+    for q in fixed {
+        lo = lo.inf(q);
+        hi = hi.sup(q);
+    }
+    let h = p.spacing;
+    let clearance = p.seed_clearance * h;
+    let row = h * Real::sqrt(3.0) / 2.0;
+    let (nx, ny) = (((hi.x - lo.x) / h).ceil(), ((hi.y - lo.y) / row).ceil());
+    // Keep the lattice bounded whatever the spacing (a refusal follows from the area budget).
+    if nx.is_nan() || ny.is_nan() || nx * ny > 1.0e6 {
+        return Vec::new();
+    }
+    let segments: Vec<(Vec2, Vec2)> = constraints
+        .iter()
+        .map(|&[a, b]| (fixed[a], fixed[b]))
+        .collect();
+    let mut seeds = Vec::new();
+    for j in 0..=ny as usize {
+        let y = lo.y + j as Real * row;
+        let shift = if j % 2 == 1 { 0.5 * h } else { 0.0 };
+        for i in 0..=nx as usize {
+            let q = Vec2::new(lo.x + shift + i as Real * h, y);
+            if inside(q, &segments)
+                && segments.iter().all(|&(a, b)| {
+                    segment_distance(q, a, b) >= p.seed_clearance * h.max((b - a).norm())
+                })
+                && fixed.iter().all(|f| (f - q).norm() >= clearance)
+            {
+                seeds.push(q);
+            }
+        }
+    }
+    // Hints (refinement: the removed faces' centroids) fill what the lattice left empty.
+    for &q in hints {
+        let clear_of_border = segments
+            .iter()
+            .all(|&(a, b)| segment_distance(q, a, b) >= HINT_CLEARANCE * h);
+        let clear_of_points = fixed
+            .iter()
+            .chain(seeds.iter())
+            .all(|f| (f - q).norm() >= clearance);
+        if inside(q, &segments) && clear_of_border && clear_of_points {
+            seeds.push(q);
+        }
+    }
+    seeds
+}
+
+/// Crossing-parity point-in-region test against the border segments.
+fn inside(q: Vec2, segments: &[(Vec2, Vec2)]) -> bool {
+    let mut odd = false;
+    for &(a, b) in segments {
+        if (a.y > q.y) != (b.y > q.y) {
+            let x = a.x + (q.y - a.y) * (b.x - a.x) / (b.y - a.y);
+            if x > q.x {
+                odd = !odd;
+            }
+        }
+    }
+    odd
+}
+
+/// Distance from `q` to the segment `a b` (m).
+fn segment_distance(q: Vec2, a: Vec2, b: Vec2) -> Real {
+    let d = b - a;
+    let t = ((q - a).dot(&d) / d.norm_squared()).clamp(0.0, 1.0);
+    (a + d * t - q).norm()
+}
+
+/// Smallest interior angle of a triangle (rad).
+pub(super) fn min_angle(a: Vec2, b: Vec2, c: Vec2) -> Real {
+    let angle = |p: Vec2, q: Vec2, r: Vec2| {
+        let (u, v) = (q - p, r - p);
+        u.perp(&v).abs().atan2(u.dot(&v))
+    };
+    angle(a, b, c).min(angle(b, c, a)).min(angle(c, a, b))
+}
+
+/// Laplacian smoothing of the new points (index `>= n_fixed`): each moves to the mean of its
+/// neighbours when every incident triangle stays clearly positive and the smallest angle around it
+/// does not decrease, so smoothing never folds the mesh, never leaves the hole and never worsens
+/// its worst angle.
+fn smooth(mesh: &mut HoleMesh, n_fixed: usize, passes: usize) {
+    let n = mesh.points.len();
+    if n == n_fixed {
+        return;
+    }
+    let mut incident: Vec<Vec<usize>> = vec![Vec::new(); n];
+    let mut neighbours: Vec<BTreeSet<usize>> = vec![BTreeSet::new(); n];
+    for (k, t) in mesh.triangles.iter().enumerate() {
+        for j in 0..3 {
+            incident[t[j]].push(k);
+            neighbours[t[j]].insert(t[(j + 1) % 3]);
+            neighbours[t[j]].insert(t[(j + 2) % 3]);
+        }
+    }
+    let star_quality = |pts: &[Vec2], v: usize, at: Vec2| -> Option<Real> {
+        let mut worst = Real::INFINITY;
+        for &k in &incident[v] {
+            let [a, b, c] = mesh.triangles[k].map(|i| if i == v { at } else { pts[i] });
+            let scale = (b - a).norm_squared().max((c - a).norm_squared());
+            if signed_area(a, b, c) <= 1e-9 * scale {
+                return None;
+            }
+            worst = worst.min(min_angle(a, b, c));
+        }
+        Some(worst)
+    };
+    for _ in 0..passes {
+        for (v, nb) in neighbours.iter().enumerate().skip(n_fixed) {
+            let centre = nb.iter().map(|&w| mesh.points[w]).sum::<Vec2>() / nb.len() as Real;
+            let before = star_quality(&mesh.points, v, mesh.points[v]).unwrap_or(0.0);
+            if let Some(after) = star_quality(&mesh.points, v, centre) {
+                if after >= before {
+                    mesh.points[v] = centre;
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn params(spacing: Real) -> HoleParams {
+        HoleParams {
+            spacing,
+            angle_limit_deg: 25.0,
+            area_slack: 1.5,
+            seed_clearance: 0.5,
+            smoothing_passes: 3,
+            max_refinement_vertices: 1000,
+        }
+    }
+
+    fn area(m: &HoleMesh) -> Real {
+        m.triangles
+            .iter()
+            .map(|t| signed_area(m.points[t[0]], m.points[t[1]], m.points[t[2]]))
+            .sum()
+    }
+
+    #[test]
+    fn square_hole_is_tiled_with_interior_points_and_good_angles() {
+        // The unit square's border in 20 edges of 0.2 m, counter-clockwise.
+        let mut fixed = Vec::new();
+        for side in 0..4 {
+            for k in 0..5 {
+                let t = k as Real / 5.0;
+                fixed.push(match side {
+                    0 => Vec2::new(t, 0.0),
+                    1 => Vec2::new(1.0, t),
+                    2 => Vec2::new(1.0 - t, 1.0),
+                    _ => Vec2::new(0.0, 1.0 - t),
+                });
+            }
+        }
+        let c: Vec<[usize; 2]> = (0..20).map(|i| [i, (i + 1) % 20]).collect();
+        let m = mesh_hole(&fixed, &c, &[], &params(0.2)).unwrap();
+        // About 1 / (0.2² sqrt(3)/4) = 58 triangles, so around 10 interior points.
+        assert!(m.points.len() >= 26, "{}", m.points.len());
+        for t in &m.triangles {
+            let [a, b, c] = t.map(|i| m.points[i]);
+            assert!(min_angle(a, b, c).to_degrees() > 25.0 - 1e-9);
+        }
+        assert!((area(&m) - 1.0).abs() < 1e-12);
+        for t in &m.triangles {
+            let [a, b, c] = t.map(|i| m.points[i]);
+            assert!(signed_area(a, b, c) > 0.0);
+        }
+    }
+
+    #[test]
+    fn annulus_around_a_kept_island_excludes_the_island() {
+        // Outer square 0..3 counter-clockwise, inner square 1..2 clockwise (the island kept).
+        let fixed = vec![
+            Vec2::new(0.0, 0.0),
+            Vec2::new(3.0, 0.0),
+            Vec2::new(3.0, 3.0),
+            Vec2::new(0.0, 3.0),
+            Vec2::new(1.0, 1.0),
+            Vec2::new(1.0, 2.0),
+            Vec2::new(2.0, 2.0),
+            Vec2::new(2.0, 1.0),
+        ];
+        let c = [
+            [0, 1],
+            [1, 2],
+            [2, 3],
+            [3, 0],
+            [4, 5],
+            [5, 6],
+            [6, 7],
+            [7, 4],
+        ];
+        let m = mesh_hole(&fixed, &c, &[], &params(0.5)).unwrap();
+        assert!((area(&m) - 8.0).abs() < 1e-12, "{}", area(&m));
+    }
+}

@@ -1,0 +1,193 @@
+//! The local-remeshing strategy (`--strategy remesh`, MODEL.md §8.2): the adaptivity the source
+//! thesis proposes. Edges selected by the shared criteria ([`crate::adapt::criteria`]) are grouped
+//! into connected components; each component's region (the faces adjacent to its edges) is removed
+//! and the hole re-meshed in rest space, finer or coarser, as one checked [`Edit`].
+//!
+//! Files, one concept each: `region` (components, regions, hole borders), `hole` (the spade
+//! constrained-Delaunay mesher with lattice seeding and Laplacian smoothing), `plan` (the
+//! elementary operation: density factor, cloth-border splits and merges, retries, the edit),
+//! `strategy` (the [`Adaptivity`](crate::adapt::Adaptivity) implementation and the per-edge
+//! refinement times for the hysteresis).
+//!
+//! The elementary operation is exposed for property tests: [`remesh_mesh`] drives the topology
+//! alone, [`remesh_cloth`] goes through the state-transfer service [`apply_edit`]. Both leave the
+//! mesh (and the cloth) untouched on error.
+
+mod hole;
+mod plan;
+mod region;
+mod strategy;
+#[cfg(test)]
+mod tests;
+
+pub use plan::{plan_region, Plan};
+pub use region::{components, region_faces};
+pub use strategy::Remesh;
+
+use crate::adapt::{apply_edit, Transfer};
+use crate::cloth::Cloth;
+use crate::collision::Obstacles;
+use crate::math::Real;
+use crate::mesh::{EdgeKey, EditError, EditRecord, FaceId, Mesh};
+use crate::scene::AdaptivitySpec;
+
+/// Refine (finer mesh in the hole) or simplify (coarser).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Mode {
+    /// Re-mesh finer: density scaled by `density_refine`, cloth-border edges bisected.
+    #[default]
+    Refine,
+    /// Re-mesh coarser: density scaled by `density_simplify`, collinear cloth-border edges merged.
+    Simplify,
+}
+
+/// Parameters of the elementary re-meshing operation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RemeshParams {
+    /// No refinement below this rest length (m); the edge floor is `floor_factor * l_min`.
+    /// Default 0.08 (scene `l_min`).
+    pub l_min: Real,
+    /// Simplification never targets or merges cloth-border edges beyond this rest length (m).
+    /// Default 0.25 (scene `l_max`).
+    pub l_max: Real,
+    /// Density-factor scale when refining (4.20-4.22). Default 1.01 (scene `density_refine`).
+    pub density_refine: Real,
+    /// Density-factor scale when simplifying. Default 0.35 (scene `density_simplify`).
+    pub density_simplify: Real,
+    /// Minimum angle the mesher keeps away from the hole border (degrees). Default 25
+    /// (scene `remesh_min_angle`).
+    pub angle_limit_deg: Real,
+    /// New edges shorter than `floor_factor * l_min` (or than the shortest hole-border edge,
+    /// whichever is smaller) make the attempt retry coarser. Default 0.5.
+    pub floor_factor: Real,
+    /// Spacing factor between attempts: divide to retry denser, multiply to retry coarser.
+    /// Default 1.2.
+    pub retry_factor: Real,
+    /// Attempts before the region is refused. Default 8.
+    pub max_attempts: usize,
+    /// Refinement area limit as a multiple of the equilateral triangle of the target side.
+    /// Default 1.5.
+    pub area_slack: Real,
+    /// Lattice seeds closer than this multiple of the spacing to the border are dropped.
+    /// Default 0.5.
+    pub seed_clearance: Real,
+    /// Laplacian smoothing passes over new interior vertices. Default 3.
+    pub smoothing_passes: usize,
+    /// Budget of vertices spade's refinement may add per attempt. Default 2000.
+    pub max_new_vertices: usize,
+}
+
+impl Default for RemeshParams {
+    fn default() -> Self {
+        RemeshParams {
+            l_min: 0.08,
+            l_max: 0.25,
+            density_refine: 1.01,
+            density_simplify: 0.35,
+            angle_limit_deg: 25.0,
+            floor_factor: 0.5,
+            retry_factor: 1.2,
+            max_attempts: 8,
+            area_slack: 1.5,
+            seed_clearance: 0.5,
+            smoothing_passes: 3,
+            max_new_vertices: 2000,
+        }
+    }
+}
+
+impl RemeshParams {
+    /// The parameters named in the scene's `[adaptivity]` section, defaults for the rest.
+    pub fn from_spec(spec: &AdaptivitySpec) -> Self {
+        RemeshParams {
+            l_min: spec.l_min,
+            l_max: spec.l_max,
+            density_refine: spec.density_refine,
+            density_simplify: spec.density_simplify,
+            angle_limit_deg: spec.remesh_min_angle,
+            ..RemeshParams::default()
+        }
+    }
+}
+
+/// What one re-meshing did, measured in rest space.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct RemeshStats {
+    /// Refine or simplify.
+    pub mode: Mode,
+    /// Faces removed (the region).
+    pub removed_faces: usize,
+    /// Faces created.
+    pub added_faces: usize,
+    /// Vertices created (cloth-border midpoints and interior points).
+    pub new_vertices: usize,
+    /// Cloth-border edges bisected.
+    pub border_splits: usize,
+    /// Edges of the hole border after splits and merges.
+    pub border_edges: usize,
+    /// New triangles with a rest angle below the mesher's limit.
+    pub small_angle: usize,
+    /// Of those, the ones with no vertex on the hole border (the border does not force them).
+    pub small_angle_interior: usize,
+    /// Mesher attempts (1 = first try accepted).
+    pub attempts: usize,
+    /// Target edge length from the density factor, after retries (m).
+    pub target_length: Real,
+    /// Mean rest length of the region's edges before (m).
+    pub mean_length_before: Real,
+    /// Mean rest length of the new faces' edges (m).
+    pub mean_length_after: Real,
+}
+
+/// Why a region could not be re-meshed; the mesh is unchanged.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RemeshError {
+    /// An edge of the selection does not exist.
+    #[error("edge {0:?} does not exist")]
+    NoSuchEdge(EdgeKey),
+    /// A face of the region is not live.
+    #[error("face {0:?} is not live")]
+    StaleFace(FaceId),
+    /// The region is empty.
+    #[error("empty region")]
+    EmptyRegion,
+    /// The mesher failed on the hole.
+    #[error("mesher failed: {0}")]
+    Mesher(String),
+    /// No attempt met the acceptance rules (the last reason given).
+    #[error("no acceptable mesh of the hole: {0}")]
+    NoAcceptableMesh(String),
+    /// The mesh refused the edit.
+    #[error("edit refused: {0}")]
+    Edit(#[from] EditError),
+}
+
+/// Re-meshes the region of `edges` in `mode` on the mesh alone (property tests of the topology).
+pub fn remesh_mesh(
+    mesh: &mut Mesh,
+    edges: &[EdgeKey],
+    mode: Mode,
+    params: &RemeshParams,
+) -> Result<(EditRecord, RemeshStats), RemeshError> {
+    let faces = region_faces(mesh, edges)?;
+    let plan = plan_region(mesh, &faces, mode, params)?;
+    let record = mesh.replace(&plan.edit)?;
+    Ok((record, plan.stats))
+}
+
+/// Re-meshes the region of `edges` in `mode` on the cloth through [`apply_edit`]: new vertices
+/// interpolated barycentrically, pushed out of `obstacles`, masses recomputed, momentum restored
+/// when `restore_momentum`. Call [`Cloth::refresh`] before the next force evaluation.
+pub fn remesh_cloth(
+    cloth: &mut Cloth,
+    edges: &[EdgeKey],
+    mode: Mode,
+    params: &RemeshParams,
+    obstacles: Option<&Obstacles>,
+    restore_momentum: bool,
+) -> Result<(Transfer, RemeshStats), RemeshError> {
+    let faces = region_faces(&cloth.mesh, edges)?;
+    let plan = plan_region(&cloth.mesh, &faces, mode, params)?;
+    let transfer = apply_edit(cloth, &plan.edit, obstacles, restore_momentum)?;
+    Ok((transfer, plan.stats))
+}

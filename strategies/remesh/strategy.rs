@@ -1,0 +1,197 @@
+//! The [`Adaptivity`] implementation of local remeshing (MODEL.md §8.2) and its per-edge
+//! bookkeeping: the time each edge was made by a refinement, for the simplification hysteresis
+//! (`t_simplify`) and the 10 % smoothing rule of the shared criteria.
+
+use super::{components, remesh_cloth, Mode, RemeshParams};
+use crate::adapt::criteria::{select, EdgeInfo};
+use crate::adapt::{AdaptContext, AdaptError, AdaptReport, Adaptivity};
+use crate::cloth::Cloth;
+use crate::math::Real;
+use crate::mesh::{EdgeKey, FaceId, Mesh, VertexKey};
+use std::collections::{BTreeMap, BTreeSet};
+
+/// Counters of a run of the strategy.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RemeshCounters {
+    /// Regions re-meshed finer.
+    pub refined: usize,
+    /// Regions re-meshed coarser.
+    pub simplified: usize,
+    /// Regions the mesher or the mesh refused (left as they were).
+    pub refused: usize,
+    /// Why the last region was refused.
+    pub last_refusal: String,
+    /// New triangles below the mesher's angle limit, all regions.
+    pub small_angle: usize,
+    /// Triangles created, all regions.
+    pub added_faces: usize,
+}
+
+/// Local remeshing: regions of selected edges are removed and re-meshed in rest space.
+#[derive(Clone, Debug, Default)]
+pub struct Remesh {
+    /// Simulated time (s) at which each edge (by its vertices' keys) was created by a refinement.
+    refined_at: BTreeMap<(VertexKey, VertexKey), Real>,
+    /// Time of the last criteria evaluation (s).
+    last_evaluation: Option<Real>,
+    /// What the strategy did so far.
+    pub counters: RemeshCounters,
+}
+
+/// The criteria's view of the refinement times at one instant.
+struct Ages<'a> {
+    mesh: &'a Mesh,
+    refined_at: &'a BTreeMap<(VertexKey, VertexKey), Real>,
+    now: Real,
+}
+
+fn edge_keys(mesh: &Mesh, e: EdgeKey) -> (VertexKey, VertexKey) {
+    (mesh.key(e.0), mesh.key(e.1))
+}
+
+impl EdgeInfo for Ages<'_> {
+    fn age(&self, edge: EdgeKey) -> Option<Real> {
+        self.refined_at
+            .get(&edge_keys(self.mesh, edge))
+            .map(|t| self.now - t)
+    }
+}
+
+impl Remesh {
+    /// A strategy with no history.
+    pub fn new() -> Self {
+        Remesh::default()
+    }
+
+    /// Seconds since `edge` was created by a refinement, at time `now` (s); `None` for edges no
+    /// refinement made (or made longer ago than the hysteresis needs to remember).
+    pub fn age(&self, mesh: &Mesh, edge: EdgeKey, now: Real) -> Option<Real> {
+        Ages {
+            mesh,
+            refined_at: &self.refined_at,
+            now,
+        }
+        .age(edge)
+    }
+
+    /// Forgets entries whose vertices are gone or whose age reached `t_simplify` (both thresholds
+    /// of the criteria are at most `t_simplify`, so such an edge counts as old either way).
+    pub(super) fn prune(&mut self, mesh: &Mesh, now: Real, t_simplify: Real) {
+        self.refined_at.retain(|(a, b), t| {
+            mesh.resolve(*a).is_some() && mesh.resolve(*b).is_some() && now - *t < t_simplify
+        });
+    }
+
+    /// Re-meshes one component; a refusal leaves the cloth as it was and is counted.
+    #[allow(clippy::too_many_arguments)]
+    fn apply(
+        &mut self,
+        cloth: &mut Cloth,
+        ctx: &AdaptContext,
+        edges: &[EdgeKey],
+        mode: Mode,
+        params: &RemeshParams,
+        fresh: &mut BTreeSet<FaceId>,
+        report: &mut AdaptReport,
+    ) {
+        match remesh_cloth(
+            cloth,
+            edges,
+            mode,
+            params,
+            Some(ctx.obstacles),
+            ctx.spec.restore_momentum,
+        ) {
+            Ok((transfer, stats)) => {
+                report.add(&transfer);
+                fresh.extend(transfer.record.added_faces.iter().copied());
+                self.counters.small_angle += stats.small_angle;
+                self.counters.added_faces += stats.added_faces;
+                match mode {
+                    Mode::Refine => {
+                        self.counters.refined += 1;
+                        let mesh = &cloth.mesh;
+                        for &f in &transfer.record.added_faces {
+                            let vs = mesh.face(f);
+                            for k in 0..3 {
+                                let e = EdgeKey::new(vs[k], vs[(k + 1) % 3]);
+                                self.refined_at.insert(edge_keys(mesh, e), ctx.time);
+                            }
+                        }
+                    }
+                    Mode::Simplify => self.counters.simplified += 1,
+                }
+            }
+            Err(e) => {
+                self.counters.refused += 1;
+                self.counters.last_refusal = e.to_string();
+            }
+        }
+    }
+}
+
+impl Adaptivity for Remesh {
+    fn name(&self) -> &'static str {
+        "remesh"
+    }
+
+    fn adapt(&mut self, cloth: &mut Cloth, ctx: &AdaptContext) -> Result<AdaptReport, AdaptError> {
+        let spec = ctx.spec;
+        if let Some(t0) = self.last_evaluation {
+            if ctx.time - t0 < spec.interval * (1.0 - 1e-9) {
+                return Ok(AdaptReport::default());
+            }
+        }
+        self.last_evaluation = Some(ctx.time);
+        self.prune(&cloth.mesh, ctx.time, spec.t_simplify);
+        let selection = select(
+            cloth,
+            ctx.obstacles,
+            spec,
+            &Ages {
+                mesh: &cloth.mesh,
+                refined_at: &self.refined_at,
+                now: ctx.time,
+            },
+        );
+        let params = RemeshParams::from_spec(spec);
+        let mut report = AdaptReport::default();
+        let mut fresh = BTreeSet::new();
+        let refine: Vec<EdgeKey> = selection.refine.iter().map(|(e, _)| *e).collect();
+        for group in components(&cloth.mesh, &refine) {
+            self.apply(
+                cloth,
+                ctx,
+                &group,
+                Mode::Refine,
+                &params,
+                &mut fresh,
+                &mut report,
+            );
+        }
+        // Simplify only what this pass did not just re-mesh.
+        let simplify: Vec<EdgeKey> = selection
+            .simplify
+            .iter()
+            .copied()
+            .filter(|e| {
+                cloth
+                    .mesh
+                    .edge(e.0, e.1)
+                    .is_some_and(|ef| ef.iter().all(|f| !fresh.contains(&f)))
+            })
+            .collect();
+        for group in components(&cloth.mesh, &simplify) {
+            self.apply(
+                cloth,
+                ctx,
+                &group,
+                Mode::Simplify,
+                &params,
+                &mut fresh,
+                &mut report,
+            );
+        }
+        Ok(report)
+    }
+}
