@@ -17,6 +17,7 @@
 //! - [`strategies`]: one module per adaptivity strategy.
 //! - [`sim`]: the step loop and the run driver.
 //! - [`output`]: frames, metrics, summaries.
+//! - [`study`]: measurement suites behind the report commands (stability).
 #![warn(missing_docs)]
 
 pub mod adapt;
@@ -30,3 +31,4 @@ pub mod scene;
 pub mod sim;
 #[path = "../strategies/mod.rs"]
 pub mod strategies;
+pub mod study;

@@ -2,6 +2,7 @@
 //! pipeline, outputs are complete, bad input fails cleanly.
 mod cli;
 mod common;
+mod integrators;
 mod physics_laws;
 mod runs;
 mod transfer;
