@@ -11,8 +11,12 @@
 //!   compression; the `max(0, ...)` drops the indefinite geometric term of a compressed spring, so
 //!   every block is positive semi-definite and conjugate gradients apply. Damping
 //!   `D_j = kd u uᵀ` (its position derivative is dropped, as in Baraff-Witkin). Drag: `-C I`.
-//! - Bending and bending damping stay explicit: they enter `f`, not the matrix (their stiffness
-//!   is orders of magnitude below the springs').
+//! - Bending: its full Hessian is indefinite, so the matrix gets its Gauss-Newton part only:
+//!   with the Bridson modes `u = dtheta/dx` (12-vector) and `c = k_b |e|²/(|N1|+|N2|)`,
+//!   `df/dx ~ -(c/2) u uᵀ` (from `sin(theta/2) ~ theta/2`) and `df/dv = -k_bd |e| u uᵀ`, both
+//!   negative semi-definite. Leaving bending explicit was tried first and measured unstable: on
+//!   the tiny-elements case (1 cm cells, 1/240 s) the energy rose by 5 J, and it fell
+//!   monotonically once bending was removed (see `docs/integrators.md`).
 //! - Fixed slots (pinned vertices, free slots) are filtered constraints: their rows and columns
 //!   are zeroed (Baraff-Witkin's filter), so `dv = 0` there.
 //! - Preconditioned conjugate gradients with the block-Jacobi preconditioner (the inverse of each
@@ -25,6 +29,7 @@
 
 use super::{fit, Dynamics, Integrator, StepStats};
 use crate::math::{Mat3, Real, Vec3};
+use crate::physics::forces::bend_modes;
 use crate::physics::ForceModel;
 use crate::scene::SpringMode;
 
@@ -37,6 +42,9 @@ pub struct ImplicitEuler {
     stiff: Vec<Mat3>,
     block: Vec<Mat3>,
     precond: Vec<Mat3>,
+    bend_u: Vec<[Vec3; 4]>,
+    bend_w: Vec<Real>,
+    bend_ids: Vec<[u32; 4]>,
     diag: Vec<Real>,
     b: Vec<Vec3>,
     dv: Vec<Vec3>,
@@ -56,6 +64,9 @@ impl ImplicitEuler {
             stiff: Vec::new(),
             block: Vec::new(),
             precond: Vec::new(),
+            bend_u: Vec::new(),
+            bend_w: Vec::new(),
+            bend_ids: Vec::new(),
             diag: Vec::new(),
             b: Vec::new(),
             dv: Vec::new(),
@@ -162,6 +173,39 @@ impl ImplicitEuler {
             self.b[a] += kv;
             self.b[b] -= kv;
         }
+        // Bending, Gauss-Newton: B = w u uᵀ with w = dt² (c/2) + dt k_bd |e|.
+        self.bend_u.clear();
+        self.bend_w.clear();
+        self.bend_ids.clear();
+        if sw.bending || sw.bending_damping {
+            let kb = if sw.bending {
+                model.material().k_b
+            } else {
+                0.0
+            };
+            let kbd = if sw.bending_damping {
+                model.material().k_bd
+            } else {
+                0.0
+            };
+            for &[i1, i2, i3, i4] in &model.bends().v {
+                let ids = [i1 as usize, i2 as usize, i3 as usize, i4 as usize];
+                let Some(m) = bend_modes(x[ids[0]], x[ids[1]], x[ids[2]], x[ids[3]]) else {
+                    continue;
+                };
+                let stiff = 0.5 * kb * m.elastic_scale;
+                let wgt = dt2 * stiff + dt * kbd * m.e_len;
+                let uv: Real = (0..4).map(|k| m.u[k].dot(&v[ids[k]])).sum();
+                for k in 0..4 {
+                    self.precond[ids[k]] += m.u[k] * m.u[k].transpose() * wgt;
+                    // dt K v with K = -stiff u uᵀ.
+                    self.b[ids[k]] -= m.u[k] * (dt * stiff * uv);
+                }
+                self.bend_u.push(m.u);
+                self.bend_w.push(wgt);
+                self.bend_ids.push([i1, i2, i3, i4]);
+            }
+        }
         let w = model.inv_mass();
         for i in 0..n {
             self.b[i] *= dt;
@@ -188,6 +232,12 @@ impl ImplicitEuler {
             let t = self.block[j] * (self.p[a] - self.p[b]);
             self.q[a] += t;
             self.q[b] -= t;
+        }
+        for ((ids, u), &wgt) in self.bend_ids.iter().zip(&self.bend_u).zip(&self.bend_w) {
+            let s: Real = (0..4).map(|k| u[k].dot(&self.p[ids[k] as usize])).sum();
+            for k in 0..4 {
+                self.q[ids[k] as usize] += u[k] * (s * wgt);
+            }
         }
         for (qi, &wi) in self.q.iter_mut().zip(w) {
             if wi == 0.0 {
