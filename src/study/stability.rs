@@ -383,7 +383,7 @@ pub fn case_beyond_limit(
                 o.steps, o.max_rise_from_start, o.max_rise_after_settle
             )
         } else {
-            format!("{}", o.message)
+            o.message.clone()
         },
         passed,
     }
@@ -617,9 +617,9 @@ pub fn hard_cases(strategy: &str, sizes: &CaseSizes) -> Vec<CaseResult> {
 /// The search of `docs/stability.md`.
 pub const REPORT_SEARCH: Search = Search {
     resolution: 17,
-    duration: 0.25,
-    range: (1e-3, 64.0),
-    iterations: 8,
+    duration: 0.1,
+    range: (2e-3, 64.0),
+    iterations: 7,
 };
 
 /// Runs the whole suite and returns `docs/stability.md`; `progress` hears about each piece.

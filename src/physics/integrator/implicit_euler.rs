@@ -27,6 +27,9 @@
 //! Without a [`crate::physics::ForceModel`] behind the dynamics (no Jacobians), the matrix is `M`
 //! and the scheme reduces to symplectic Euler.
 
+// Index loops over parallel per-slot arrays read clearer than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
+
 use super::{fit, Dynamics, Integrator, StepStats};
 use crate::math::{Mat3, Real, Vec3};
 use crate::physics::forces::bend_modes;
@@ -267,7 +270,7 @@ impl ImplicitEuler {
             iterations += 1;
             self.apply(model);
             let pq = dot(&self.p, &self.q);
-            if !(pq > 0.0) {
+            if pq.is_nan() || pq <= 0.0 {
                 break; // breakdown (p = 0 or round-off): keep the current iterate
             }
             let alpha = rz / pq;

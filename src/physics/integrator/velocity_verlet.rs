@@ -8,6 +8,9 @@
 //! `integrator`). With velocity-independent forces the scheme is the classic second-order,
 //! time-reversible velocity Verlet; with damping the predicted `v*` keeps it second order.
 
+// Index loops over parallel per-slot arrays read clearer than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
+
 use super::{fit, Dynamics, Integrator, StepStats};
 use crate::math::{Real, Vec3};
 

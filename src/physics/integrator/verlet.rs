@@ -27,6 +27,9 @@
 //! (`material.springs = "tension"`) only stretched bars are shortened, so the cloth can still
 //! buckle. The displacement made by relaxation becomes velocity through `v' = (x' - x)/dt`.
 
+// Index loops over parallel per-slot arrays read clearer than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
+
 use super::{fit, Dynamics, Integrator, StepStats};
 use crate::math::{Real, Vec3};
 use crate::scene::SpringMode;
