@@ -8,7 +8,7 @@
 
 use adaptcloth::math::{Real, Vec3};
 use adaptcloth::mesh::{union_jack, Mesh};
-use adaptcloth::physics::{make_integrator, ForceModel};
+use adaptcloth::physics::{integrator_named, ForceModel};
 use adaptcloth::scene::{ForcesSpec, MaterialSpec, TimeSpec};
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use rand::{Rng, SeedableRng};
@@ -103,7 +103,7 @@ fn integrator_steps(c: &mut Criterion) {
         // factor lets the state diverge and the bench would time NaN arithmetic.
         let dt = m.stable_step(TimeSpec::default().beta);
         for name in ["rk4", "symplectic_euler"] {
-            let mut integrator = make_integrator(name).expect("registered integrator");
+            let mut integrator = integrator_named(name).expect("registered integrator");
             let (mut x, mut v) = state(&mesh, 2);
             group.throughput(Throughput::Elements(mesh.vertex_count() as u64));
             group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {

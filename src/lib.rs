@@ -22,6 +22,7 @@
 //! - [`report_html`]: the self-contained `report.html`: markdown sections, embedded images and an
 //!   interactive 3D replay per run.
 //! - [`eval`]: error metrics against a cached reference, comparisons, plots and reports.
+//! - [`study`]: measurement suites behind the report commands (stability).
 #![warn(missing_docs)]
 
 pub mod adapt;
@@ -38,3 +39,4 @@ pub mod scene;
 pub mod sim;
 #[path = "../strategies/mod.rs"]
 pub mod strategies;
+pub mod study;

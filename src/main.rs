@@ -40,6 +40,33 @@ enum Command {
     /// Rewrite the plots and reports of existing comparison folders (no run), optionally
     /// docs/results.md over them.
     Report(ReportArgs),
+    /// Seed 004's single-particle integrator experiments (Tables 2-5) beside the source's numbers,
+    /// and the observed convergence orders on a damped spring.
+    Integrators {
+        /// Also write the tables into docs/integrators.md (between its generated-table markers).
+        #[arg(long)]
+        write_docs: bool,
+        /// The document to update with --write-docs.
+        #[arg(long, default_value = "docs/integrators.md")]
+        docs: PathBuf,
+    },
+    /// Run the stability suite (bisection of the largest stable step, hard cases for every built
+    /// strategy) and write its report.
+    Stability {
+        /// Report file.
+        #[arg(long, default_value = "docs/stability.md")]
+        out: PathBuf,
+        /// Small sizes (the test sizes): a quick look, not the report.
+        #[arg(long)]
+        quick: bool,
+    },
+    /// RMS and largest distance between the vertices of two frames of the same mesh (m).
+    FrameDiff {
+        /// First frame (OBJ).
+        a: PathBuf,
+        /// Second frame (OBJ).
+        b: PathBuf,
+    },
 }
 
 #[derive(clap::Args)]
@@ -170,7 +197,8 @@ struct RunArgs {
     /// Adaptivity strategy: static, remesh, simnett or bisect48 (overrides the scene).
     #[arg(long)]
     strategy: Option<String>,
-    /// Integrator (overrides the scene), e.g. rk4 or symplectic_euler.
+    /// Integrator (overrides the scene): explicit_euler, symplectic_euler, velocity_verlet, verlet,
+    /// time_corrected_verlet, verlet_relaxation, rk4, implicit_euler.
     #[arg(long)]
     integrator: Option<String>,
     /// Simulated duration in seconds (overrides the scene).
@@ -205,6 +233,100 @@ fn main() -> ExitCode {
                 println!("{name:12} {description}");
             }
             ExitCode::SUCCESS
+        }
+        Command::Integrators { write_docs, docs } => integrators(write_docs, &docs),
+        Command::Stability { out, quick } => stability(&out, quick),
+        Command::FrameDiff { a, b } => match adaptcloth::output::frame_distance(&a, &b) {
+            Ok((rms, max)) => {
+                println!("rms {rms:.6e} m, max {max:.6e} m");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::from(2)
+            }
+        },
+    }
+}
+
+const TABLE_BEGIN: &str = "<!-- BEGIN integrators table (adaptcloth integrators --write-docs) -->";
+const TABLE_END: &str = "<!-- END integrators table -->";
+
+fn integrators(write_docs: bool, docs: &std::path::Path) -> ExitCode {
+    use adaptcloth::physics::experiments;
+    let mut table = experiments::markdown_table();
+    table += "
+**Observed convergence order** on the damped spring (`log2(e(n)/e(2n))` at t = 1 s, n = 400):
+
+| integrator | order |\n|---|---|\n";
+    for name in adaptcloth::physics::INTEGRATORS {
+        if *name == "verlet_relaxation" {
+            table += "| `verlet_relaxation` | - (rigid bars: converges to another problem) |\n";
+            continue;
+        }
+        table += &format!(
+            "| `{name}` | {:.3} |\n",
+            experiments::observed_order(name, 400)
+        );
+    }
+    print!("{table}");
+    if !write_docs {
+        return ExitCode::SUCCESS;
+    }
+    let text = match std::fs::read_to_string(docs) {
+        Ok(t) => t,
+        Err(e) => {
+            eprintln!("error: {}: {e}", docs.display());
+            return ExitCode::from(2);
+        }
+    };
+    let (Some(a), Some(b)) = (text.find(TABLE_BEGIN), text.find(TABLE_END)) else {
+        eprintln!(
+            "error: {} lacks the markers {TABLE_BEGIN} ... {TABLE_END}",
+            docs.display()
+        );
+        return ExitCode::from(2);
+    };
+    let new = format!("{}{TABLE_BEGIN}\n{table}\n{}", &text[..a], &text[b..]);
+    match adaptcloth::output::write_atomic(docs, new.as_bytes()) {
+        Ok(()) => {
+            eprintln!("wrote {}", docs.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: writing {}: {e}", docs.display());
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn stability(out: &std::path::Path, quick: bool) -> ExitCode {
+    use adaptcloth::study::stability::{self, CaseSizes, Search, REPORT_SEARCH};
+    let (search, sizes) = if quick {
+        (
+            Search {
+                resolution: 5,
+                duration: 0.1,
+                iterations: 4,
+                ..REPORT_SEARCH
+            },
+            CaseSizes::QUICK,
+        )
+    } else {
+        (REPORT_SEARCH, CaseSizes::REPORT)
+    };
+    let md = stability::report(&search, &sizes, |s| eprintln!("adaptcloth stability: {s}"));
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        let _ = std::fs::create_dir_all(dir);
+    }
+    match adaptcloth::output::write_atomic(out, md.as_bytes()) {
+        Ok(()) => {
+            eprintln!("wrote {}", out.display());
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: writing {}: {e}", out.display());
+            ExitCode::from(1)
         }
     }
 }
@@ -368,7 +490,7 @@ fn reference_settings(o: &RefOpts) -> Result<ReferenceSettings, String> {
         ),
     };
     if let Some(i) = &o.ref_integrator {
-        adaptcloth::physics::make_integrator(i).map_err(|e| format!("--ref-integrator: {e}"))?;
+        adaptcloth::physics::integrator_named(i).map_err(|e| format!("--ref-integrator: {e}"))?;
     }
     for (name, v) in [
         ("--ref-resolution", o.ref_resolution),

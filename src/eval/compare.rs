@@ -9,7 +9,7 @@
 
 use super::metrics;
 use super::reference::{self, Floor, Reference, ReferenceError, ReferenceSettings};
-use crate::physics::make_integrator;
+use crate::physics::integrator_named;
 use crate::scene::{LoadedScene, ObstacleSpec, Scene, STRATEGIES};
 use crate::sim::{RunStatus, SamplePoints};
 use crate::strategies::make_strategy;
@@ -100,7 +100,7 @@ pub fn parse_configs(
         integrators.to_vec()
     };
     for i in &integrators {
-        make_integrator(i).map_err(|e| CompareError::Config(e.to_string()))?;
+        integrator_named(i).map_err(|e| CompareError::Config(e.to_string()))?;
     }
     let mut out = Vec::new();
     for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {

@@ -38,6 +38,16 @@ pub struct MetricsRow {
     pub adapt_events: usize,
     /// Kinetic-energy change of those events (J).
     pub adapt_energy_change: Real,
+    /// Gravitational potential energy `-sum m g . x` (J).
+    pub gravity_energy: Real,
+    /// Stretch potential energy of the springs (J).
+    pub stretch_energy: Real,
+    /// Bending potential energy (J).
+    pub bending_energy: Real,
+    /// Kinetic plus gravitational, stretch and bending energy (J).
+    pub total_energy: Real,
+    /// Conjugate-gradient iterations of the last step (`implicit_euler`; 0 otherwise).
+    pub cg_iterations: usize,
     /// World positions of the tracked points (m).
     pub tracked: Vec<Vec3>,
 }
@@ -60,7 +70,8 @@ impl MetricsWriter {
         write!(
             out,
             "step,t,dt,vertices,edges,faces,min_mass,max_stiffness,total_mass,linear_momentum,\
-             kinetic_energy,max_penetration,contacts,adapt_events,adapt_energy_change"
+             kinetic_energy,max_penetration,contacts,adapt_events,adapt_energy_change,gravity_energy,\
+             stretch_energy,bending_energy,total_energy,cg_iterations"
         )?;
         for k in 0..tracked {
             write!(out, ",p{k}_x,p{k}_y,p{k}_z")?;
@@ -73,7 +84,8 @@ impl MetricsWriter {
     pub fn row(&mut self, r: &MetricsRow) -> std::io::Result<()> {
         write!(
             self.out,
-            "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{},{},{:.6e}",
+            "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{},{},{:.6e},{:.9e},{:.9e},\
+             {:.9e},{:.9e},{}",
             r.step,
             r.t,
             r.dt,
@@ -88,7 +100,12 @@ impl MetricsWriter {
             r.max_penetration,
             r.contacts,
             r.adapt_events,
-            r.adapt_energy_change
+            r.adapt_energy_change,
+            r.gravity_energy,
+            r.stretch_energy,
+            r.bending_energy,
+            r.total_energy,
+            r.cg_iterations
         )?;
         for p in &r.tracked {
             write!(self.out, ",{:.9e},{:.9e},{:.9e}", p.x, p.y, p.z)?;

@@ -3,9 +3,11 @@
 //! rename ([`write_atomic`]); the streamed metrics table is `metrics.csv.partial` until the run
 //! ends (whatever its status), then renamed to `metrics.csv`.
 
+mod frame_diff;
 mod frames;
 mod metrics;
 
+pub use frame_diff::{frame_distance, read_frame_positions, FrameDiffError};
 pub use frames::{frame_path, write_frame};
 pub use metrics::{MetricsRow, MetricsWriter};
 

@@ -110,8 +110,8 @@ impl ForceModel {
         self.refresh_mass_stats();
     }
 
-    /// A model over explicit particles and springs, without a mesh (tests of single springs).
-    #[cfg(test)]
+    /// A model over explicit particles and springs, without a mesh (single-spring tests and the
+    /// convergence-order study of [`crate::physics::experiments`]).
     pub(crate) fn from_parts(
         material: &MaterialSpec,
         forces: &ForcesSpec,
@@ -414,5 +414,118 @@ impl Dynamics for ForceModel {
                 *vi = Vec3::zeros();
             }
         }
+    }
+
+    /// True when spring damping, bending damping or drag is switched on.
+    fn velocity_dependent(&self) -> bool {
+        let s = &self.switches;
+        s.spring_damping || s.bending_damping || s.drag
+    }
+
+    fn force_model(&self) -> Option<&ForceModel> {
+        Some(self)
+    }
+}
+
+/// The mechanical energy of a state (J), every term over all vertex slots.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Energies {
+    /// Kinetic energy `sum 1/2 m |v|²` (J).
+    pub kinetic: Real,
+    /// Gravitational potential `-sum m g . x` (J; zero at the world origin).
+    pub gravity: Real,
+    /// Stretch potential of the springs (J), see [`ForceModel::stretch_energy`].
+    pub stretch: Real,
+    /// Bending potential (J), see [`ForceModel::bending_energy`].
+    pub bending: Real,
+}
+
+impl Energies {
+    /// Kinetic plus every potential (J).
+    pub fn total(&self) -> Real {
+        self.kinetic + self.gravity + self.stretch + self.bending
+    }
+}
+
+impl ForceModel {
+    /// Kinetic and potential energies (J) of the state `(x, v)`; a potential whose force is
+    /// switched off counts 0.
+    pub fn energies(&self, x: &[Vec3], v: &[Vec3]) -> Energies {
+        let kinetic = self
+            .mass
+            .iter()
+            .zip(v)
+            .map(|(&m, vi)| 0.5 * m * vi.norm_squared())
+            .sum();
+        Energies {
+            kinetic,
+            gravity: self.gravity_energy(x),
+            stretch: self.stretch_energy(x),
+            bending: self.bending_energy(x),
+        }
+    }
+
+    /// Gravitational potential `-sum_i m_i g . x_i` (J), 0 when gravity is off.
+    pub fn gravity_energy(&self, x: &[Vec3]) -> Real {
+        if !self.switches.gravity {
+            return 0.0;
+        }
+        -self
+            .mass
+            .iter()
+            .zip(x)
+            .map(|(&m, xi)| m * self.g.dot(xi))
+            .sum::<Real>()
+    }
+
+    /// Stretch potential `sum_j 1/2 k_j (L_j - L0_j)²` (J) over the springs that resist: stretched
+    /// ones, and compressed ones too with `springs = "both"`. Its negative gradient is the elastic
+    /// spring force (4.8) exactly. 0 when springs are off.
+    pub fn stretch_energy(&self, x: &[Vec3]) -> Real {
+        if !self.switches.springs {
+            return 0.0;
+        }
+        let both = self.material.springs == SpringMode::Both;
+        let sp = &self.springs;
+        (0..sp.len())
+            .map(|j| {
+                let len = (x[sp.b[j] as usize] - x[sp.a[j] as usize]).norm();
+                let s = len - sp.rest_length[j];
+                if both || s > 0.0 {
+                    0.5 * sp.k[j] * s * s
+                } else {
+                    0.0
+                }
+            })
+            .sum()
+    }
+
+    /// Bending potential (J): `sum 2 c (1 - cos(theta/2))` over the bending elements, with
+    /// `c = k_b |e|² / (|N1| + |N2|)` the coefficient of the Bridson force (4.10). With `c` frozen,
+    /// its gradient is `c sin(theta/2) dtheta/dx`, the Bridson elastic force (whose modes `u_i` are
+    /// `dtheta/dx_i`); since the force lets `c` vary with the shape, the energy is consistent with
+    /// it to first order in the change of `c` (small strain, any angle). For small angles it is
+    /// `c theta² / 4`. 0 when bending is off.
+    pub fn bending_energy(&self, x: &[Vec3]) -> Real {
+        if !self.switches.bending {
+            return 0.0;
+        }
+        let kb = self.material.k_b;
+        self.bends
+            .v
+            .iter()
+            .filter_map(|&[i1, i2, i3, i4]| {
+                let u = bend_modes(
+                    x[i1 as usize],
+                    x[i2 as usize],
+                    x[i3 as usize],
+                    x[i4 as usize],
+                )?;
+                let s2 = u.sin_half * u.sin_half;
+                // 1 - cos(theta/2) = s² / (1 + cos(theta/2)), without cancellation.
+                let one_minus_cos = s2 / (1.0 + (1.0 - s2).max(0.0).sqrt());
+                Some(2.0 * kb * u.elastic_scale * one_minus_cos)
+            })
+            .sum()
     }
 }

@@ -4,14 +4,35 @@
 //! every integrator runs over the same force code. One file per integrator under `integrator/`,
 //! named after the scene's `integrator.name`; adding one is adding its file, its `mod` line and
 //! its line in [`REGISTRY`] (which also feeds [`INTEGRATORS`]).
+//!
+//! **State and history.** The state is `(x, v)` and nothing else: integrators never keep
+//! per-vertex history across steps. The multi-step schemes (`verlet`, `time_corrected_verlet`,
+//! `verlet_relaxation`) keep only the previous step size `dt_prev` (a scalar) and derive the
+//! previous positions as `x_prev = x - v dt_prev`, where `v` is the backward-difference velocity
+//! `(x - x_prev) / dt_prev` they leave behind. Whatever acts on `(x, v)` between steps therefore
+//! updates the history consistently: the collision response (a bounce changes `v`, hence the
+//! history), pinned and driven vertices, and above all the adaptation transfer: a new vertex gets
+//! `x` and `v` interpolated linearly from its origin, so its history is the same interpolation of
+//! its parents' histories (exact for uniform motion, see the test
+//! `verlet_history_of_a_split_vertex_comes_from_the_transfer`).
 
+mod explicit_euler;
+mod implicit_euler;
 mod rk4;
 mod symplectic_euler;
+mod velocity_verlet;
+mod verlet;
 
+pub use explicit_euler::ExplicitEuler;
+pub use implicit_euler::ImplicitEuler;
 pub use rk4::Rk4;
 pub use symplectic_euler::SymplecticEuler;
+pub use velocity_verlet::VelocityVerlet;
+pub use verlet::{Verlet, VerletKind};
 
+use super::ForceModel;
 use crate::math::{Real, Vec3};
+use crate::scene::IntegratorSpec;
 
 /// The physics an integrator advances: accelerations as a function of time and state.
 pub trait Dynamics {
@@ -24,6 +45,28 @@ pub trait Dynamics {
     fn constrain_velocities(&self, v: &mut [Vec3]) {
         let _ = v;
     }
+
+    /// Whether the accelerations depend on the velocities (damping, drag). Position Verlet then
+    /// predicts a second-order velocity before evaluating them. Default: true (the safe answer).
+    fn velocity_dependent(&self) -> bool {
+        true
+    }
+
+    /// Optional capability: the mass-spring model behind the accelerations, for integrators that
+    /// need more than accelerations (force Jacobians for `implicit_euler`, the edge list for
+    /// `verlet_relaxation`). Default: none (those integrators then fall back as documented).
+    fn force_model(&self) -> Option<&ForceModel> {
+        None
+    }
+}
+
+/// What one integrator step reports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct StepStats {
+    /// Conjugate-gradient iterations of the step (`implicit_euler`; 0 for the others).
+    pub cg_iterations: usize,
+    /// True when the linear solve stopped at its iteration cap before reaching its tolerance.
+    pub cg_capped: bool,
 }
 
 /// A time integrator over `(x, v)`.
@@ -34,16 +77,37 @@ pub trait Integrator: Send {
     /// Advances positions `x` (m) and velocities `v` (m/s) from time `t` by `dt` (s). Fixed slots
     /// keep their position and get zero velocity. Allocation-free in steady state: scratch
     /// buffers are kept and resized only when the number of slots changes.
-    fn step(&mut self, dynamics: &dyn Dynamics, t: Real, dt: Real, x: &mut [Vec3], v: &mut [Vec3]);
+    fn step(
+        &mut self,
+        dynamics: &dyn Dynamics,
+        t: Real,
+        dt: Real,
+        x: &mut [Vec3],
+        v: &mut [Vec3],
+    ) -> StepStats;
 }
 
-/// One registered integrator: its scene name and its constructor.
-type Entry = (&'static str, fn() -> Box<dyn Integrator>);
+/// One registered integrator: its scene name and its constructor from the scene's options.
+type Entry = (&'static str, fn(&IntegratorSpec) -> Box<dyn Integrator>);
 
 /// Every integrator, by scene name.
-const REGISTRY: [Entry; 2] = [
-    ("rk4", || Box::new(Rk4::default())),
-    ("symplectic_euler", || Box::new(SymplecticEuler::default())),
+const REGISTRY: [Entry; 8] = [
+    ("explicit_euler", |_| Box::new(ExplicitEuler::default())),
+    ("symplectic_euler", |_| Box::new(SymplecticEuler::default())),
+    ("velocity_verlet", |_| Box::new(VelocityVerlet::default())),
+    ("verlet", |_| Box::new(Verlet::new(VerletKind::Position))),
+    ("time_corrected_verlet", |_| {
+        Box::new(Verlet::new(VerletKind::TimeCorrected))
+    }),
+    ("verlet_relaxation", |s| {
+        Box::new(Verlet::new(VerletKind::Relaxation {
+            passes: s.relaxation_passes,
+        }))
+    }),
+    ("rk4", |_| Box::new(Rk4::default())),
+    ("implicit_euler", |s| {
+        Box::new(ImplicitEuler::new(s.cg_tolerance, s.cg_max_iterations))
+    }),
 ];
 
 /// Names of every available integrator, in registry order.
@@ -65,15 +129,23 @@ pub struct UnknownIntegrator {
     pub name: String,
 }
 
-/// A new integrator by scene name (one of [`INTEGRATORS`]).
-pub fn make_integrator(name: &str) -> Result<Box<dyn Integrator>, UnknownIntegrator> {
+/// A new integrator for the scene's `[integrator]` section (`spec.name` one of [`INTEGRATORS`]).
+pub fn make_integrator(spec: &IntegratorSpec) -> Result<Box<dyn Integrator>, UnknownIntegrator> {
     REGISTRY
         .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(_, make)| make())
+        .find(|(n, _)| *n == spec.name)
+        .map(|(_, make)| make(spec))
         .ok_or_else(|| UnknownIntegrator {
-            name: name.to_owned(),
+            name: spec.name.clone(),
         })
+}
+
+/// A new integrator by name with default options (tests, experiments).
+pub fn integrator_named(name: &str) -> Result<Box<dyn Integrator>, UnknownIntegrator> {
+    make_integrator(&IntegratorSpec {
+        name: name.to_owned(),
+        ..IntegratorSpec::default()
+    })
 }
 
 /// Resizes a scratch buffer to `n` slots; allocates only when `n` grows past the capacity.

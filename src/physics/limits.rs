@@ -34,7 +34,7 @@ impl ForceModel {
 mod tests {
     use crate::math::{Real, Vec3};
     use crate::mesh::union_jack;
-    use crate::physics::{make_integrator, Dynamics, ForceModel};
+    use crate::physics::{integrator_named, Dynamics, ForceModel};
     use crate::scene::{ForcesSpec, MaterialSpec};
 
     /// Damping only (no elasticity, gravity or drag), so the step limit is the damping one.
@@ -62,7 +62,7 @@ mod tests {
             .map(|i| Vec3::new((i as Real * 0.37).sin(), (i as Real * 1.3).cos(), 0.2))
             .collect();
         model.constrain_velocities(&mut v);
-        let mut integrator = make_integrator("symplectic_euler").unwrap();
+        let mut integrator = integrator_named("symplectic_euler").unwrap();
         for k in 0..400 {
             integrator.step(model, k as Real * dt, dt, &mut x, &mut v);
         }

@@ -7,9 +7,11 @@
 //!
 //! Files: `elements` (the flat [`Springs`] and [`Bends`] arrays), `forces` ([`ForceModel`]: vertex
 //! parameters and force kernels), `integrator` (the [`Dynamics`] and [`Integrator`] traits, the
-//! registry) with one file per integrator under `integrator/`.
+//! registry) with one file per integrator under `integrator/`, `experiments` (seed 004's
+//! single-particle integrator experiments and the convergence-order study).
 
 mod elements;
+pub mod experiments;
 mod forces;
 mod integrator;
 mod limits;
@@ -18,7 +20,8 @@ mod limits;
 mod tests;
 
 pub use elements::{Bends, Springs};
-pub use forces::ForceModel;
+pub use forces::{Energies, ForceModel};
 pub use integrator::{
-    make_integrator, Dynamics, Integrator, Rk4, SymplecticEuler, UnknownIntegrator, INTEGRATORS,
+    integrator_named, make_integrator, Dynamics, ExplicitEuler, ImplicitEuler, Integrator, Rk4,
+    StepStats, SymplecticEuler, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
 };

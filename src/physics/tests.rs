@@ -313,7 +313,7 @@ fn pinned_vertices_keep_mass_and_never_move() {
     assert_eq!(model.inv_mass()[0], 0.0);
     assert_eq!(model.inv_mass()[3], 0.0);
     for name in INTEGRATORS {
-        let mut integ = make_integrator(name).expect("registered");
+        let mut integ = integrator_named(name).expect("registered");
         let (mut x, mut v) = random_state(&mesh, 3, 0.02);
         let (x0, x3) = (x[0], x[3]);
         for k in 0..5 {
@@ -336,7 +336,7 @@ fn free_fall_is_exact_with_rk4_and_known_with_symplectic_euler() {
     let v0 = Vec3::new(0.2, -0.1, 0.5);
     let (dt, n) = (1e-3, 100);
     for name in ["rk4", "symplectic_euler"] {
-        let mut integ = make_integrator(name).expect("registered");
+        let mut integ = integrator_named(name).expect("registered");
         let x0: Vec<Vec3> = lifted(&mesh)
             .iter()
             .map(|p| p + Vec3::new(0.0, 0.0, 1.0))
@@ -393,7 +393,7 @@ fn single_spring_oscillates_with_the_analytic_period() {
     let model = single_spring(k, 0.0, m, SpringMode::Both);
     let period = 2.0 * std::f64::consts::PI * (m / k).sqrt();
     let dt = period / 500.0;
-    let mut integ = make_integrator("rk4").expect("registered");
+    let mut integ = integrator_named("rk4").expect("registered");
     let mut x = vec![Vec3::zeros(), Vec3::new(1.1, 0.0, 0.0)];
     let mut v = vec![Vec3::zeros(); 2];
     let mut crossings = Vec::new();
@@ -424,7 +424,7 @@ fn spring_damping_dissipates_energy_monotonically() {
         0.5 * m * v[1].norm_squared() + 0.5 * k * s * s
     };
     let dt = 2.0 * std::f64::consts::PI * (m / k).sqrt() / 200.0;
-    let mut integ = make_integrator("rk4").expect("registered");
+    let mut integ = integrator_named("rk4").expect("registered");
     let mut x = vec![Vec3::zeros(), Vec3::new(1.1, 0.0, 0.0)];
     let mut v = vec![Vec3::zeros(), Vec3::new(0.0, 0.0, 0.0)];
     let e0 = energy(&x, &v);
@@ -559,12 +559,201 @@ fn accelerations_are_force_over_mass_and_zero_when_fixed() {
 #[test]
 fn integrators_are_found_by_name() {
     for name in INTEGRATORS {
-        let integ = make_integrator(name).expect("every listed name is registered");
+        let integ = integrator_named(name).expect("every listed name is registered");
         assert_eq!(integ.name(), *name);
     }
-    let err = make_integrator("leapfrog").err().expect("unknown name");
+    let err = integrator_named("leapfrog").err().expect("unknown name");
     assert_eq!(err.name, "leapfrog");
     let msg = err.to_string();
     assert!(msg.contains("`leapfrog`"));
     assert!(INTEGRATORS.iter().all(|n| msg.contains(n)), "{msg}");
+}
+
+#[test]
+fn verlet_family_and_velocity_verlet_are_exact_under_constant_acceleration() {
+    let exp = experiments::seed_experiments()[0];
+    assert!(!exp.random);
+    for name in [
+        "velocity_verlet",
+        "verlet",
+        "time_corrected_verlet",
+        "verlet_relaxation",
+        "rk4",
+    ] {
+        let e = experiments::trajectory_errors(&exp, name);
+        let worst = e.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
+        // Positions reach ~190 m: round-off is ~1e-13 m.
+        assert!(worst <= 1e-10, "{name}: error {worst:e} m");
+    }
+    // The Euler schemes are not exact: their error grows linearly, dt² a n / 2 at step n.
+    for name in ["explicit_euler", "symplectic_euler"] {
+        let e = experiments::trajectory_errors(&exp, name);
+        let want = 0.25 * 0.25 * 9.81 * 25.0 / 2.0;
+        assert!((e[25].abs() - want).abs() <= 1e-9, "{name}: {}", e[25]);
+    }
+}
+
+#[test]
+fn time_corrected_and_velocity_verlet_stay_exact_under_random_steps_but_position_verlet_does_not() {
+    let exp = experiments::seed_experiments()[1];
+    assert!(exp.random);
+    for name in ["velocity_verlet", "rk4"] {
+        let e = experiments::trajectory_errors(&exp, name);
+        let worst = e.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
+        assert!(worst <= 1e-10, "{name}: error {worst:e} m");
+    }
+    // Seed 004's (4.4d) assumes dt_prev = dt in its acceleration term: off by a dt (dt - dt_prev)/2
+    // per step, far less than position Verlet, which ignores the step change altogether.
+    let sd = |name| experiments::std_dev(&experiments::trajectory_errors(&exp, name));
+    let (tcv, verlet) = (sd("time_corrected_verlet"), sd("verlet"));
+    assert!(
+        tcv > 1e-3 && verlet > 10.0 * tcv,
+        "tcv {tcv}, verlet {verlet}"
+    );
+}
+
+#[test]
+fn verlet_relaxation_keeps_the_bar_at_its_rest_length() {
+    // The damped spring released 10 % stretched: relaxation makes it a rigid bar at once.
+    for n in [50, 100] {
+        let e = experiments::damped_spring_error("verlet_relaxation", n);
+        // The error is the whole elastic motion (<= the 0.1 m release stretch), not a step error.
+        assert!(e > 1e-3 && e <= 0.1, "{e}");
+        assert!((e - experiments::damped_spring_error("verlet_relaxation", 2 * n)).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn observed_convergence_orders_on_a_damped_spring() {
+    let expected = [
+        ("explicit_euler", 1.0),
+        ("symplectic_euler", 1.0),
+        ("implicit_euler", 1.0),
+        ("velocity_verlet", 2.0),
+        ("verlet", 2.0),
+        ("time_corrected_verlet", 2.0),
+        ("rk4", 4.0),
+    ];
+    // verlet_relaxation replaces each spring by a rigid bar: it converges to another problem.
+    assert_eq!(expected.len() + 1, INTEGRATORS.len());
+    for (name, order) in expected {
+        let p = experiments::observed_order(name, 400);
+        assert!(
+            (p - order).abs() <= 0.25,
+            "{name}: observed order {p:.3}, expected {order}"
+        );
+    }
+}
+
+/// A perturbed 4x4 sheet whose springs resist both ways, with only conservative forces.
+fn conservative_sheet() -> (ForceModel, Vec<Vec3>, Vec<Vec3>) {
+    let mesh = union_jack(4, 4, 1.0, 1.0);
+    let material = MaterialSpec {
+        springs: SpringMode::Both,
+        young: 1e5,
+        ..MaterialSpec::default()
+    };
+    let forces = ForcesSpec {
+        springs: true,
+        gravity: true,
+        ..all_off()
+    };
+    let model = built(&mesh, &material, &forces);
+    let (x, v) = random_state(&mesh, 11, 0.03);
+    (model, x, v)
+}
+
+#[test]
+fn rk4_conserves_total_energy_to_fourth_order() {
+    let (model, x0, v0) = conservative_sheet();
+    let e0 = model.energies(&x0, &v0).total();
+    let drift = |n: usize| {
+        let (mut x, mut v) = (x0.clone(), v0.clone());
+        let mut integ = integrator_named("rk4").expect("registered");
+        let dt = 0.05 / n as Real;
+        for k in 0..n {
+            integ.step(&model, k as Real * dt, dt, &mut x, &mut v);
+        }
+        (model.energies(&x, &v).total() - e0).abs()
+    };
+    let (d1, d2) = (drift(200), drift(400));
+    assert!(
+        d1 > 0.0 && d1 <= 1e-6 * e0.abs().max(1e-3),
+        "drift {d1:e} J"
+    );
+    let order = (d1 / d2).log2();
+    assert!(
+        order > 3.5,
+        "energy drift order {order:.2} ({d1:e} -> {d2:e})"
+    );
+}
+
+#[test]
+fn spring_force_is_minus_the_gradient_of_the_stretch_energy() {
+    for mode in [SpringMode::Tension, SpringMode::Both] {
+        let mesh = union_jack(3, 3, 1.0, 1.0);
+        let material = MaterialSpec {
+            springs: mode,
+            ..MaterialSpec::default()
+        };
+        let forces = ForcesSpec {
+            springs: true,
+            ..all_off()
+        };
+        let model = built(&mesh, &material, &forces);
+        let (x, v) = random_state(&mesh, 5, 0.05);
+        let f = forces_of(&model, &x, &v);
+        let h = 1e-7;
+        for i in 0..x.len() {
+            for c in 0..3 {
+                let (mut xp, mut xm) = (x.clone(), x.clone());
+                xp[i][c] += h;
+                xm[i][c] -= h;
+                let grad = (model.stretch_energy(&xp) - model.stretch_energy(&xm)) / (2.0 * h);
+                assert!(
+                    (f[i][c] + grad).abs() <= 1e-5 * scale(&f),
+                    "{mode:?} vertex {i} axis {c}: f {} vs -dE/dx {}",
+                    f[i][c],
+                    -grad
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn bending_energy_is_zero_flat_and_grows_with_the_fold() {
+    let forces = ForcesSpec {
+        bending: true,
+        ..all_off()
+    };
+    let mut last = -1.0;
+    for phi in [0.0, 0.1, 0.4, 1.0] {
+        let (mesh, x) = diamond(phi);
+        let model = built(&mesh, &MaterialSpec::default(), &forces);
+        let e = model.bending_energy(&x);
+        assert!(e > last || (phi == 0.0 && e == 0.0), "phi {phi}: {e}");
+        last = e;
+    }
+}
+
+#[test]
+fn implicit_euler_converges_and_reports_its_iterations() {
+    let mut mesh = union_jack(6, 6, 1.0, 1.0);
+    mesh.set_pinned(VertexId(0), true);
+    let material = MaterialSpec {
+        young: 1e9,
+        ..MaterialSpec::default()
+    };
+    let model = built(&mesh, &material, &ForcesSpec::default());
+    let (mut x, mut v) = random_state(&mesh, 2, 0.01);
+    let mut integ = integrator_named("implicit_euler").expect("registered");
+    // 100 times the explicit limit.
+    let dt = 100.0 * model.stable_step(1.0);
+    for k in 0..20 {
+        let stats = integ.step(&model, k as Real * dt, dt, &mut x, &mut v);
+        assert!(stats.cg_iterations > 0 && !stats.cg_capped, "{stats:?}");
+    }
+    assert!(x.iter().chain(&v).all(|p| p.iter().all(|c| c.is_finite())));
+    assert!(v.iter().all(|vi| vi.norm() < 10.0), "bounded velocities");
 }

@@ -83,6 +83,10 @@ pub struct ClothSpec {
     pub pinned: Vec<[Real; 2]>,
     /// Initial velocity of every vertex (m/s). Default zero.
     pub velocity: [Real; 3],
+    /// Prescribed velocity (m/s) of each pinned vertex, in the order of `pinned`: a pinned vertex
+    /// with a non-zero entry is driven (it moves by `velocity dt` every step, whatever the forces).
+    /// Empty (the default) or shorter than `pinned`: the others stay still.
+    pub pinned_velocity: Vec<[Real; 3]>,
 }
 
 impl Default for ClothSpec {
@@ -97,6 +101,7 @@ impl Default for ClothSpec {
             rotation_deg: [0.0; 3],
             pinned: Vec::new(),
             velocity: [0.0; 3],
+            pinned_velocity: Vec::new(),
         }
     }
 }
@@ -266,11 +271,24 @@ impl Default for TimeSpec {
 pub struct IntegratorSpec {
     /// Integrator name (see `adaptcloth run --help`). Default `rk4`.
     pub name: String,
+    /// `implicit_euler`: relative residual at which conjugate gradients stop,
+    /// `|r| <= cg_tolerance |b|` (dimensionless). Default 1e-6.
+    pub cg_tolerance: Real,
+    /// `implicit_euler`: iteration cap of conjugate gradients per step. Default 200.
+    pub cg_max_iterations: usize,
+    /// `verlet_relaxation`: Gauss-Seidel passes over the edges after each Verlet step (seed 002's
+    /// bar relaxation). Default 4.
+    pub relaxation_passes: usize,
 }
 
 impl Default for IntegratorSpec {
     fn default() -> Self {
-        IntegratorSpec { name: "rk4".into() }
+        IntegratorSpec {
+            name: "rk4".into(),
+            cg_tolerance: 1e-6,
+            cg_max_iterations: 200,
+            relaxation_passes: 4,
+        }
     }
 }
 

@@ -161,6 +161,21 @@ pub(super) fn validate(
         &scene.integrator.name,
         crate::physics::INTEGRATORS,
     )?;
+    if scene.cloth.pinned_velocity.len() > scene.cloth.pinned.len() {
+        return Err(c.fail(
+            "cloth.pinned_velocity",
+            scene.cloth.pinned_velocity.len(),
+            "expected at most one velocity per pinned point",
+        ));
+    }
+    c.positive("integrator.cg_tolerance", scene.integrator.cg_tolerance)?;
+    if scene.integrator.cg_max_iterations == 0 {
+        return Err(c.fail(
+            "integrator.cg_max_iterations",
+            0.0,
+            "expected at least 1 iteration",
+        ));
+    }
     c.non_negative("collision.margin", scene.collision.margin)?;
     c.open_unit("collision.restitution", scene.collision.restitution)?;
 

@@ -14,7 +14,7 @@ use crate::cloth::Cloth;
 use crate::collision::{ContactStats, Obstacles};
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{Barycentric, RestLocator};
-use crate::physics::{make_integrator, Integrator};
+use crate::physics::{make_integrator, Integrator, StepStats};
 use crate::scene::{LoadedScene, Scene, TimeMode};
 use crate::strategies::make_strategy;
 use std::time::{Duration, Instant};
@@ -43,6 +43,8 @@ pub struct StepReport {
     pub contacts: ContactStats,
     /// What adaptation changed.
     pub adapt: AdaptReport,
+    /// What the integrator reported (conjugate-gradient iterations).
+    pub integrator: StepStats,
 }
 
 /// Why the simulation cannot go on.
@@ -101,6 +103,8 @@ pub struct Simulation {
     x_start: Vec<Vec3>,
     /// `ForceModel::damping_step_limit` (s) and the mesh version it was computed for.
     damping_limit: (u64, Real),
+    /// Driven pinned vertices (slot, prescribed velocity in m/s), from `cloth.pinned_velocity`.
+    drivers: Vec<(usize, Vec3)>,
     /// Wall time per stage.
     pub stage_times: StageTimes,
 }
@@ -111,7 +115,8 @@ impl Simulation {
         let scene = loaded.scene.clone();
         let cloth = build_cloth(loaded)?;
         let obstacles = Obstacles::build(&scene.obstacles, &scene.collision, &loaded.base_dir)?;
-        let integrator = make_integrator(&scene.integrator.name)?;
+        let integrator = make_integrator(&scene.integrator)?;
+        let drivers = setup::drivers(loaded, &cloth)?;
         let strategy = make_strategy(&scene.adaptivity.strategy)?;
         let locator = RestLocator::new(&cloth.mesh);
         let mut tracked = Vec::new();
@@ -148,6 +153,7 @@ impl Simulation {
             contact_seen: false,
             x_start: Vec::new(),
             damping_limit: (u64::MAX, Real::INFINITY),
+            drivers,
             stage_times: StageTimes::default(),
         })
     }
@@ -205,8 +211,14 @@ impl Simulation {
         self.x_start.clear();
         self.x_start.extend_from_slice(&self.cloth.x);
         let cloth = &mut self.cloth;
-        self.integrator
+        let integrator = self
+            .integrator
             .step(&cloth.model, self.t, dt, &mut cloth.x, &mut cloth.v);
+        // Driven pinned vertices move with their prescribed velocity (their inverse mass is 0, so
+        // the integrator left them in place); their velocity stays 0 for the force model.
+        for &(i, vel) in &self.drivers {
+            cloth.x[i] += vel * dt;
+        }
         self.stage_times.integrate_s += secs(clock.elapsed());
 
         let clock = Instant::now();
@@ -253,6 +265,7 @@ impl Simulation {
             dt,
             contacts,
             adapt,
+            integrator,
         })
     }
 

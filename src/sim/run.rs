@@ -222,6 +222,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
 /// The metrics of the current state; `last` is the step just taken.
 fn metrics_row(sim: &Simulation, last: &super::StepReport) -> MetricsRow {
     let cloth = &sim.cloth;
+    let energy = cloth.model.energies(&cloth.x, &cloth.v);
     MetricsRow {
         step: sim.steps,
         t: sim.t,
@@ -238,6 +239,11 @@ fn metrics_row(sim: &Simulation, last: &super::StepReport) -> MetricsRow {
         contacts: last.contacts.contacts,
         adapt_events: last.adapt.events,
         adapt_energy_change: last.adapt.kinetic_energy_change,
+        gravity_energy: energy.gravity,
+        stretch_energy: energy.stretch,
+        bending_energy: energy.bending,
+        total_energy: energy.total(),
+        cg_iterations: last.integrator.cg_iterations,
         tracked: sim.tracked_positions().collect(),
     }
 }

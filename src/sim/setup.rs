@@ -105,3 +105,29 @@ fn nearest_vertex(mesh: &Mesh, p: Vec2) -> Option<VertexId> {
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(v, _)| v)
 }
+
+/// The driven pinned vertices of a scene: `(slot, velocity)` for every entry of
+/// `cloth.pinned_velocity` that is not zero, paired with `cloth.pinned` in order.
+pub(crate) fn drivers(
+    loaded: &LoadedScene,
+    cloth: &Cloth,
+) -> Result<Vec<(usize, Vec3)>, SetupError> {
+    let spec = &loaded.scene.cloth;
+    let mut out = Vec::new();
+    for (i, (p, vel)) in spec.pinned.iter().zip(&spec.pinned_velocity).enumerate() {
+        let vel = Vec3::from(*vel);
+        if vel == Vec3::zeros() {
+            continue;
+        }
+        let v =
+            nearest_vertex(&cloth.mesh, Vec2::new(p[0], p[1])).ok_or(SetupError::OffPattern {
+                what: format!("cloth.pinned[{i}]"),
+                u: p[0],
+                v: p[1],
+            })?;
+        out.push((v.0 as usize, vel));
+    }
+    out.sort_by_key(|d| d.0);
+    out.dedup_by_key(|d| d.0);
+    Ok(out)
+}

@@ -4,7 +4,7 @@
 //! velocity doubles as the position slope and five buffers suffice: the stage state, the stage
 //! acceleration and the two weighted slope sums.
 
-use super::{fit, Dynamics, Integrator};
+use super::{fit, Dynamics, Integrator, StepStats};
 use crate::math::{Real, Vec3};
 
 /// Classic RK4: fourth order, four force evaluations per step.
@@ -22,7 +22,14 @@ impl Integrator for Rk4 {
         "rk4"
     }
 
-    fn step(&mut self, dynamics: &dyn Dynamics, t: Real, dt: Real, x: &mut [Vec3], v: &mut [Vec3]) {
+    fn step(
+        &mut self,
+        dynamics: &dyn Dynamics,
+        t: Real,
+        dt: Real,
+        x: &mut [Vec3],
+        v: &mut [Vec3],
+    ) -> StepStats {
         debug_assert_eq!(x.len(), v.len());
         let n = x.len();
         for buf in [
@@ -63,5 +70,6 @@ impl Integrator for Rk4 {
             x[i] += (self.sum_x[i] + self.vs[i]) * w;
             v[i] += (self.sum_v[i] + self.a[i]) * w;
         }
+        StepStats::default()
     }
 }

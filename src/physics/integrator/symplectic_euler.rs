@@ -1,6 +1,6 @@
 //! `symplectic_euler`: `v += dt a(x, v); x += dt v` (the Euler of seed 004).
 
-use super::{fit, Dynamics, Integrator};
+use super::{fit, Dynamics, Integrator, StepStats};
 use crate::math::{Real, Vec3};
 
 /// Semi-implicit (symplectic) Euler: first order, one force evaluation per step.
@@ -14,7 +14,14 @@ impl Integrator for SymplecticEuler {
         "symplectic_euler"
     }
 
-    fn step(&mut self, dynamics: &dyn Dynamics, t: Real, dt: Real, x: &mut [Vec3], v: &mut [Vec3]) {
+    fn step(
+        &mut self,
+        dynamics: &dyn Dynamics,
+        t: Real,
+        dt: Real,
+        x: &mut [Vec3],
+        v: &mut [Vec3],
+    ) -> StepStats {
         debug_assert_eq!(x.len(), v.len());
         fit(&mut self.a, x.len());
         dynamics.constrain_velocities(v);
@@ -23,5 +30,6 @@ impl Integrator for SymplecticEuler {
             *vi += ai * dt;
             *xi += *vi * dt;
         }
+        StepStats::default()
     }
 }
