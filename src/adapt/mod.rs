@@ -9,9 +9,11 @@
 //! rebuilt by the simulation before the next step.
 
 pub mod criteria;
+mod target;
 mod transfer;
 
 pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
+pub use target::{ClothTarget, EditTarget};
 pub use transfer::{
     apply_edit, apply_edit_with, restore_kinetic_energy, Transfer, TransferOptions,
 };

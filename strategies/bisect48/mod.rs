@@ -15,7 +15,7 @@ mod ops;
 mod strategy;
 
 pub use labels::{opposite_longest_edge, FaceLabel, LabelMismatch, Labels, SplitOrigin};
-pub use ops::{Bisection, ClothTarget, EditTarget, OpError};
+pub use ops::{Bisection, OpError};
 pub use strategy::Bisect48;
 
 #[cfg(test)]

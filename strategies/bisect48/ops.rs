@@ -22,52 +22,11 @@
 //! cloth through the state-transfer service (`adapt::apply_edit_with`) in the simulation.
 
 use super::labels::{FaceLabel, LabelMismatch, Labels, SplitOrigin};
-use crate::adapt::{apply_edit_with, AdaptReport, TransferOptions};
-use crate::cloth::Cloth;
+use crate::adapt::EditTarget;
 use crate::math::signed_area;
 use crate::mesh::{
     EdgeKey, Edit, EditError, EditRecord, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef,
 };
-
-/// Where the operations apply their edits.
-pub trait EditTarget {
-    /// The mesh being edited.
-    fn mesh(&self) -> &Mesh;
-    /// Applies one checked edit (the mesh is unchanged on error).
-    fn apply(&mut self, edit: &Edit) -> Result<EditRecord, EditError>;
-}
-
-impl EditTarget for Mesh {
-    fn mesh(&self) -> &Mesh {
-        self
-    }
-
-    fn apply(&mut self, edit: &Edit) -> Result<EditRecord, EditError> {
-        self.replace(edit)
-    }
-}
-
-/// A cloth edited through the state-transfer service; every applied edit is added to `report`.
-pub struct ClothTarget<'a, 'o> {
-    /// The cloth.
-    pub cloth: &'a mut Cloth,
-    /// How state is transferred (obstacles, momentum and energy restoration).
-    pub options: TransferOptions<'o>,
-    /// What the applied edits changed.
-    pub report: AdaptReport,
-}
-
-impl EditTarget for ClothTarget<'_, '_> {
-    fn mesh(&self) -> &Mesh {
-        &self.cloth.mesh
-    }
-
-    fn apply(&mut self, edit: &Edit) -> Result<EditRecord, EditError> {
-        let t = apply_edit_with(self.cloth, edit, &self.options)?;
-        self.report.add(&t);
-        Ok(t.record)
-    }
-}
 
 /// Why a bisection or merge was refused; the mesh and the labels are unchanged.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

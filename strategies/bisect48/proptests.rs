@@ -5,7 +5,7 @@ use super::tests::{
     check_invariants, config, face_set, find_face, grid, merge_all, vertex_set, Checked,
 };
 use super::*;
-use crate::adapt::{AdaptReport, TransferOptions};
+use crate::adapt::{AdaptReport, ClothTarget, EditTarget, TransferOptions};
 use crate::cloth::Cloth;
 use crate::math::{Real, Vec3};
 use crate::mesh::{Mesh, VertexId};

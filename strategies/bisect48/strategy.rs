@@ -22,7 +22,8 @@
 //! `restore_momentum` and `restore_energy` from the scene.
 
 use super::labels::Labels;
-use super::ops::{ClothTarget, OpError};
+use super::ops::OpError;
+use crate::adapt::ClothTarget;
 use crate::adapt::TransferOptions;
 use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
 use crate::cloth::Cloth;

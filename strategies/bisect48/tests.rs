@@ -2,6 +2,7 @@
 //! the helpers shared with the property tests (`proptests.rs`): the invariant checker and edit
 //! targets that check or refuse edits.
 use super::*;
+use crate::adapt::EditTarget;
 use crate::math::Real;
 use crate::mesh::{union_jack, Edit, EditError, EditRecord, FaceId, Mesh, VertexId};
 use proptest::prelude::*;

@@ -5,8 +5,8 @@
 //!   the consistency checker [`Hierarchy::check`].
 //! - [`ops`]: the elementary operations [`Hierarchy::split_edge`], [`Hierarchy::merge_edge`] (and
 //!   the `force_completion` variant [`Hierarchy::split_edge_forced`]), each ONE checked
-//!   [`crate::mesh::Edit`] applied to a [`MeshTarget`].
-//! - [`target`]: [`MeshTarget`], the bare mesh or the cloth ([`ClothTarget`]).
+//!   [`crate::mesh::Edit`] applied to a [`crate::adapt::EditTarget`] (the bare mesh, or the cloth
+//!   through [`crate::adapt::ClothTarget`]).
 //! - [`strategy`]: the [`crate::adapt::Adaptivity`] implementation driven by the shared criteria.
 //!
 //! Design notes and the state table: `docs/strategies/simnett.md`.
@@ -14,7 +14,6 @@
 pub mod hierarchy;
 pub mod ops;
 pub mod strategy;
-pub mod target;
 
 #[cfg(test)]
 mod tests;
@@ -24,4 +23,3 @@ pub use hierarchy::{
 };
 pub use ops::{OpError, OpKind, OpRecord};
 pub use strategy::{depth_angle_limit, Simnett};
-pub use target::{ClothTarget, MeshTarget};

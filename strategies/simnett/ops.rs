@@ -3,14 +3,14 @@
 //! the edge and expressed as ONE [`Edit`] that replaces their current faces by their new ones.
 //!
 //! Each operation checks its preconditions first (returning an [`OpError`] naming the violated
-//! one), builds the edit, hands it to a [`MeshTarget`] (the bare mesh for topology tests, or the
+//! one), builds the edit, hands it to a [`EditTarget`] (the bare mesh for topology tests, or the
 //! cloth through [`crate::adapt::apply_edit`] for the physics), and commits the hierarchy change
 //! only when the target applied it: on any error neither the mesh nor the hierarchy changes.
 //! [`Hierarchy::split_edge_forced`] is the `force_completion` option: a sequence of elementary
 //! splits that first completes the state-1-6 parent triangles blocking the wanted edge.
 
 use super::hierarchy::{bits_of, state_of, EdgeNode, EdgeRole, Hierarchy, TriKey, TriNode};
-use super::target::MeshTarget;
+use crate::adapt::EditTarget;
 use crate::math::Real;
 use crate::mesh::{
     EdgeKey, Edit, EditError, EditRecord, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef,
@@ -137,7 +137,7 @@ impl Hierarchy {
     /// the new edges for the split/merge time limit.
     pub fn split_edge(
         &mut self,
-        target: &mut dyn MeshTarget,
+        target: &mut dyn EditTarget,
         e: EdgeKey,
         max_depth: u32,
         now: Real,
@@ -235,7 +235,7 @@ impl Hierarchy {
     /// triangle has only unsplit leaf children (state 0).
     pub fn merge_edge(
         &mut self,
-        target: &mut dyn MeshTarget,
+        target: &mut dyn EditTarget,
         e: EdgeKey,
         now: Real,
     ) -> Result<OpRecord, OpError> {
@@ -316,7 +316,7 @@ impl Hierarchy {
     /// anything changes.
     pub fn split_edge_forced(
         &mut self,
-        target: &mut dyn MeshTarget,
+        target: &mut dyn EditTarget,
         e: EdgeKey,
         max_depth: u32,
         now: Real,
@@ -328,7 +328,7 @@ impl Hierarchy {
 
     fn force_into(
         &mut self,
-        target: &mut dyn MeshTarget,
+        target: &mut dyn EditTarget,
         e: EdgeKey,
         max_depth: u32,
         now: Real,
@@ -358,7 +358,7 @@ impl Hierarchy {
     /// Splits every unsplit edge of triangle `t` (forced), bringing it to state 7.
     fn complete_into(
         &mut self,
-        target: &mut dyn MeshTarget,
+        target: &mut dyn EditTarget,
         t: TriKey,
         max_depth: u32,
         now: Real,

@@ -13,9 +13,9 @@
 
 use super::hierarchy::{EdgeRole, Hierarchy};
 use super::ops::{OpError, OpRecord};
-use super::target::ClothTarget;
 use crate::adapt::RefineReason;
 use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
+use crate::adapt::{ClothTarget, TransferOptions};
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::Real;
@@ -101,7 +101,14 @@ impl Adaptivity for Simnett {
         if sel.refine.is_empty() && sel.simplify.is_empty() {
             return Ok(AdaptReport::default());
         }
-        let mut target = ClothTarget::new(cloth, Some(ctx.obstacles), spec.restore_momentum);
+        let mut target = ClothTarget::new(
+            cloth,
+            TransferOptions {
+                obstacles: Some(ctx.obstacles),
+                restore_momentum: spec.restore_momentum,
+                restore_energy: spec.restore_energy,
+            },
+        );
         for (e, reason) in sel.refine {
             let x = &target.cloth.x;
             let length = (x[e.1 .0 as usize] - x[e.0 .0 as usize]).norm();

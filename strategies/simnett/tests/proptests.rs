@@ -10,6 +10,7 @@
 //! Cases: `PROPTEST_CASES` (default 64).
 
 use super::*;
+use crate::adapt::{ClothTarget, TransferOptions};
 use proptest::prelude::*;
 use proptest::test_runner::TestCaseError;
 use rand::{Rng, SeedableRng};
@@ -168,7 +169,13 @@ fn run(
         );
         let topology = (triples(&cloth.mesh), rest_points(&cloth.mesh));
         let what = format!("op {i} kind {kind} on {e:?}");
-        let mut target = ClothTarget::new(&mut cloth, None, true);
+        let mut target = ClothTarget::new(
+            &mut cloth,
+            TransferOptions {
+                restore_momentum: true,
+                ..TransferOptions::default()
+            },
+        );
         let (result, result_bare) = match kind {
             0..=4 => (
                 h.split_edge(&mut target, e, max_depth, i as Real)
@@ -213,7 +220,13 @@ fn run(
         }
         check_all(&cloth, &h, max_depth, &reference, &what)?;
         if kind == 0 && result.is_ok() {
-            let mut target = ClothTarget::new(&mut cloth, None, true);
+            let mut target = ClothTarget::new(
+                &mut cloth,
+                TransferOptions {
+                    restore_momentum: true,
+                    ..TransferOptions::default()
+                },
+            );
             let undo = h.merge_edge(&mut target, e, i as Real);
             let undo_bare = hb.merge_edge(&mut bare, e, i as Real);
             cloth.refresh();
@@ -246,7 +259,13 @@ fn run(
         }
         split.sort();
         let (_, e) = split[0];
-        let mut target = ClothTarget::new(&mut cloth, None, true);
+        let mut target = ClothTarget::new(
+            &mut cloth,
+            TransferOptions {
+                restore_momentum: true,
+                ..TransferOptions::default()
+            },
+        );
         let r = h.merge_edge(&mut target, e, 0.0);
         cloth.refresh();
         prop_assert!(r.is_ok(), "merge-all: {:?} refused: {:?}", e, r);

@@ -1,0 +1,61 @@
+//! Where a strategy's elementary operations send their edits: the bare mesh (pure-topology
+//! property tests) or the cloth through the state-transfer service (the physics path). One
+//! interface, so every strategy's operations are written once and tested both ways.
+
+use super::transfer::{apply_edit_with, TransferOptions};
+use super::AdaptReport;
+use crate::cloth::Cloth;
+use crate::mesh::{Edit, EditError, EditRecord, Mesh};
+
+/// Where the operations apply their edits.
+pub trait EditTarget {
+    /// The mesh being edited.
+    fn mesh(&self) -> &Mesh;
+    /// Applies one checked edit (the mesh is unchanged on error).
+    fn apply(&mut self, edit: &Edit) -> Result<EditRecord, EditError>;
+}
+
+impl EditTarget for Mesh {
+    fn mesh(&self) -> &Mesh {
+        self
+    }
+
+    fn apply(&mut self, edit: &Edit) -> Result<EditRecord, EditError> {
+        self.replace(edit)
+    }
+}
+
+/// A cloth edited through the state-transfer service ([`apply_edit_with`]: interpolated state,
+/// push-out, masses, momentum and optional energy restoration); every applied edit is added to
+/// `report`.
+pub struct ClothTarget<'a, 'o> {
+    /// The cloth.
+    pub cloth: &'a mut Cloth,
+    /// How state is transferred (obstacles, momentum and energy restoration).
+    pub options: TransferOptions<'o>,
+    /// What the applied edits changed.
+    pub report: AdaptReport,
+}
+
+impl<'a, 'o> ClothTarget<'a, 'o> {
+    /// A target over `cloth` with these transfer options and an empty report.
+    pub fn new(cloth: &'a mut Cloth, options: TransferOptions<'o>) -> Self {
+        ClothTarget {
+            cloth,
+            options,
+            report: AdaptReport::default(),
+        }
+    }
+}
+
+impl EditTarget for ClothTarget<'_, '_> {
+    fn mesh(&self) -> &Mesh {
+        &self.cloth.mesh
+    }
+
+    fn apply(&mut self, edit: &Edit) -> Result<EditRecord, EditError> {
+        let t = apply_edit_with(self.cloth, edit, &self.options)?;
+        self.report.add(&t);
+        Ok(t.record)
+    }
+}
