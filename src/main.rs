@@ -318,13 +318,18 @@ fn integrators(write_docs: bool, docs: &std::path::Path) -> ExitCode {
         return ExitCode::from(2);
     };
     let new = format!("{}{TABLE_BEGIN}\n{table}\n{}", &text[..a], &text[b..]);
-    match adaptcloth::output::write_atomic(docs, new.as_bytes()) {
+    write_report_file(docs, &new)
+}
+
+/// Writes a generated report atomically and says so; exit status 1 when it cannot be written.
+fn write_report_file(path: &std::path::Path, text: &str) -> ExitCode {
+    match adaptcloth::output::write_atomic(path, text.as_bytes()) {
         Ok(()) => {
-            eprintln!("wrote {}", docs.display());
+            eprintln!("wrote {}", path.display());
             ExitCode::SUCCESS
         }
         Err(e) => {
-            eprintln!("error: writing {}: {e}", docs.display());
+            eprintln!("error: writing {}: {e}", path.display());
             ExitCode::from(1)
         }
     }
@@ -349,16 +354,7 @@ fn stability(out: &std::path::Path, quick: bool) -> ExitCode {
     if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
         let _ = std::fs::create_dir_all(dir);
     }
-    match adaptcloth::output::write_atomic(out, md.as_bytes()) {
-        Ok(()) => {
-            eprintln!("wrote {}", out.display());
-            ExitCode::SUCCESS
-        }
-        Err(e) => {
-            eprintln!("error: writing {}: {e}", out.display());
-            ExitCode::from(1)
-        }
-    }
+    write_report_file(out, &md)
 }
 
 fn run(args: RunArgs) -> ExitCode {

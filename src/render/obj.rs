@@ -21,14 +21,19 @@ pub fn read_obj_frame(path: &Path) -> Result<FrameMesh, RenderError> {
 /// The simulated time (s) of a frame, from the `# adaptcloth frame, t = T s` comment a run writes
 /// on its first line; `None` when the file has no such comment.
 pub fn read_obj_frame_time(path: &Path) -> Result<Option<f64>, RenderError> {
-    let text = std::fs::read_to_string(path).map_err(|source| RenderError::Io {
+    use std::io::BufRead;
+    let io = |source| RenderError::Io {
         path: path.to_path_buf(),
         source,
-    })?;
-    Ok(text.lines().find_map(|l| {
-        let rest = l.trim().strip_prefix("# adaptcloth frame, t =")?;
-        rest.trim().trim_end_matches('s').trim().parse().ok()
-    }))
+    };
+    let mut first = String::new();
+    std::io::BufReader::new(std::fs::File::open(path).map_err(io)?)
+        .read_line(&mut first)
+        .map_err(io)?;
+    Ok(first
+        .trim()
+        .strip_prefix("# adaptcloth frame, t =")
+        .and_then(|rest| rest.trim().trim_end_matches('s').trim().parse().ok()))
 }
 
 /// Parses OBJ text; `path` only names the source in errors.

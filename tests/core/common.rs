@@ -1,4 +1,6 @@
 //! Helpers shared by the integration tests.
+use adaptcloth::math::Vec2;
+use adaptcloth::mesh::{Edit, NewVertex, Origin, VertexId, VertexRef};
 use adaptcloth::scene::{self, LoadedScene};
 use adaptcloth::sim::{self, RunOptions, RunSummary, Simulation};
 use std::path::Path;
@@ -30,4 +32,33 @@ pub fn run_into(loaded: &LoadedScene, out: &Path) -> (Simulation, RunSummary) {
     };
     let summary = sim::run(&mut s, &opts).expect("outputs written");
     (s, summary)
+}
+
+/// The edit splitting edge `(a, b)` (vertex slots) at its rest midpoint: each adjacent face is
+/// cut in two through the new vertex, whose state is the average of the ends'.
+pub fn split_edit(sim: &Simulation, a: u32, b: u32) -> Edit {
+    let mesh = &sim.cloth.mesh;
+    let (a, b) = (VertexId(a), VertexId(b));
+    let faces: Vec<_> = mesh.edge(a, b).expect("edge exists").iter().collect();
+    let mut add = Vec::new();
+    for &f in &faces {
+        let vs = mesh.face(f);
+        let k = (0..3)
+            .find(|&k| {
+                let (p, q) = (vs[k], vs[(k + 1) % 3]);
+                (p == a && q == b) || (p == b && q == a)
+            })
+            .expect("face has the edge");
+        let (p, q, r) = (vs[k], vs[(k + 1) % 3], vs[(k + 2) % 3]);
+        add.push([VertexRef::Old(p), VertexRef::New(0), VertexRef::Old(r)]);
+        add.push([VertexRef::New(0), VertexRef::Old(q), VertexRef::Old(r)]);
+    }
+    Edit {
+        remove: faces,
+        new_vertices: vec![NewVertex {
+            rest: Vec2::from((mesh.rest(a) + mesh.rest(b)) * 0.5),
+            origin: Origin::Midpoint(a, b),
+        }],
+        add,
+    }
 }

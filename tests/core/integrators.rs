@@ -1,38 +1,11 @@
 //! Integrators through the whole pipeline: multi-step history across adaptation.
-use crate::common::scene_text;
+use crate::common::{scene_text, split_edit};
 use adaptcloth::adapt::apply_edit;
-use adaptcloth::math::{Vec2, Vec3};
-use adaptcloth::mesh::{Edit, NewVertex, Origin, VertexId, VertexRef};
+use adaptcloth::math::Vec3;
+use adaptcloth::mesh::VertexId;
 use adaptcloth::sim::Simulation;
 
 /// Splits the edge (a, b) at its midpoint (both faces), as in `transfer.rs`.
-fn split_edit(sim: &Simulation, a: u32, b: u32) -> Edit {
-    let mesh = &sim.cloth.mesh;
-    let (a, b) = (VertexId(a), VertexId(b));
-    let faces: Vec<_> = mesh.edge(a, b).expect("edge exists").iter().collect();
-    let mut add = Vec::new();
-    for &f in &faces {
-        let vs = mesh.face(f);
-        let k = (0..3)
-            .find(|&k| {
-                let (p, q) = (vs[k], vs[(k + 1) % 3]);
-                (p == a && q == b) || (p == b && q == a)
-            })
-            .expect("face has the edge");
-        let (p, q, r) = (vs[k], vs[(k + 1) % 3], vs[(k + 2) % 3]);
-        add.push([VertexRef::Old(p), VertexRef::New(0), VertexRef::Old(r)]);
-        add.push([VertexRef::New(0), VertexRef::Old(q), VertexRef::Old(r)]);
-    }
-    Edit {
-        remove: faces,
-        new_vertices: vec![NewVertex {
-            rest: Vec2::from((mesh.rest(a) + mesh.rest(b)) * 0.5),
-            origin: Origin::Midpoint(a, b),
-        }],
-        add,
-    }
-}
-
 /// Every live vertex moves with vertex 0: same velocity, same displacement from its rest layout.
 fn assert_uniform(sim: &Simulation, what: &str) {
     let c = &sim.cloth;

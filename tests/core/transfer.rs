@@ -1,41 +1,9 @@
 //! The shared transfer service keeps mass and momentum when a strategy edits the mesh.
-use crate::common::scene_text;
+use crate::common::{scene_text, split_edit};
 use adaptcloth::adapt::apply_edit;
 use adaptcloth::math::{Vec2, Vec3};
 use adaptcloth::mesh::{Edit, NewVertex, Origin, VertexRef};
 use adaptcloth::sim::Simulation;
-
-/// Splits the interior edge (a, b) at its midpoint through the transfer service.
-fn split_edit(sim: &Simulation, a: usize, b: usize) -> Edit {
-    let mesh = &sim.cloth.mesh;
-    let (a, b) = (
-        adaptcloth::mesh::VertexId(a as u32),
-        adaptcloth::mesh::VertexId(b as u32),
-    );
-    let e = mesh.edge(a, b).expect("edge exists");
-    let faces: Vec<_> = e.iter().collect();
-    let mid = Vec2::from((mesh.rest(a) + mesh.rest(b)) * 0.5);
-    let mut add = Vec::new();
-    for &f in &faces {
-        let vs = mesh.face(f);
-        let k = (0..3).find(|&k| {
-            let (p, q) = (vs[k], vs[(k + 1) % 3]);
-            (p == a && q == b) || (p == b && q == a)
-        });
-        let k = k.expect("face has the edge");
-        let (p, q, r) = (vs[k], vs[(k + 1) % 3], vs[(k + 2) % 3]);
-        add.push([VertexRef::Old(p), VertexRef::New(0), VertexRef::Old(r)]);
-        add.push([VertexRef::New(0), VertexRef::Old(q), VertexRef::Old(r)]);
-    }
-    Edit {
-        remove: faces,
-        new_vertices: vec![NewVertex {
-            rest: mid,
-            origin: Origin::Midpoint(a, b),
-        }],
-        add,
-    }
-}
 
 #[test]
 fn midpoint_split_conserves_mass_and_momentum_and_records_energy_loss() {
