@@ -12,12 +12,14 @@
 //! (`TriMesh` with `ORIENTED | MERGE_DUPLICATE_VERTICES`, read from OBJ files). Each obstacle keeps
 //! its world AABB as a broad phase, so vertices far from an obstacle cost a few comparisons.
 //!
-//! Files: `shape` (one obstacle and its parry queries, nalgebra <-> glam conversions), `obj` (OBJ
-//! reader), `error` ([`CollisionError`]).
+//! Files: `shape` (one obstacle and its parry queries, nalgebra <-> glam conversions),
+//! `cylinder_ray` (closed-form ray entry into a cylinder, in place of parry's GJK), `grid` (mesh
+//! signed-distance bounds), `obj` (OBJ reader), `error` ([`CollisionError`]).
 //!
 //! Depths and distances are measured from the raw surface (margin not included): the promise
 //! "no penetration beyond the collision margin" reads `max_penetration <= margin`.
 
+mod cylinder_ray;
 mod error;
 mod grid;
 mod obj;

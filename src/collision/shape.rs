@@ -2,6 +2,7 @@
 //! three geometric queries the response needs (swept entry, signed-distance projection, AABB
 //! overlap). The nalgebra <-> glam conversions of the module live here.
 
+use super::cylinder_ray::cylinder_entry;
 use super::error::CollisionError;
 use super::grid::DistanceGrid;
 use super::obj::read_obj;
@@ -219,19 +220,25 @@ impl Obstacle {
 
     /// First entry of the path `origin -> origin + dir` (the fraction `t` in (0, 1]) into the
     /// solid, with the outward unit normal there. A path that starts inside or on the surface,
-    /// or only leaves the solid, has no entry (the projection handles it).
+    /// or only leaves the solid, has no entry (the projection handles it). Cylinders use the
+    /// closed form of `cylinder_ray` (parry's is a GJK iteration).
     pub fn cast_entry(&self, origin: Vector, dir: Vector) -> Option<(Real, Vector)> {
         if dir.length_squared() == 0.0 {
             return None;
         }
         let ray = Ray::new(origin, dir);
         let hit = match &self.geometry {
+            Geometry::Cylinder(s) => {
+                let local_origin = self.pose.inverse_transform_point(origin);
+                let local_dir = self.pose.inverse_transform_vector(dir);
+                return cylinder_entry(s.half_height, s.radius, local_origin, local_dir, 1.0)
+                    .map(|(t, n)| (t, self.pose.rotation * n));
+            }
             Geometry::Mesh(m) => {
                 m.cast_ray_with_culling(&self.pose, &ray, 1.0, RayCullingMode::IgnoreBackfaces)
             }
             Geometry::Ground(s) => s.cast_ray_and_get_normal(&self.pose, &ray, 1.0, true),
             Geometry::Ball(s) => s.cast_ray_and_get_normal(&self.pose, &ray, 1.0, true),
-            Geometry::Cylinder(s) => s.cast_ray_and_get_normal(&self.pose, &ray, 1.0, true),
             Geometry::Cuboid(s) => s.cast_ray_and_get_normal(&self.pose, &ray, 1.0, true),
         }?;
         let n = hit.normal.try_normalize()?;

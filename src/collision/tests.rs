@@ -581,3 +581,37 @@ fn edge_hit_on_bunny_enters_from_above() {
     let inside = obs.edge_hit(c, top).expect("starts inside");
     assert_eq!(inside.point, c);
 }
+
+/// The edge query never misses a segment that reaches into the bunny:
+/// random segments of 1-20 cm around it, sampled every 1 mm, are hit whenever a sample is inside.
+#[test]
+fn edge_hit_on_bunny_finds_every_segment_that_reaches_inside() {
+    let obs = bunny();
+    let c = mesh_centroid(&obs);
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as Real / (1u64 << 53) as Real
+    };
+    let (mut inside, mut clear) = (0, 0);
+    for _ in 0..3000 {
+        let a = c + Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5) * 0.5;
+        let dir = Vec3::new(uniform() - 0.5, uniform() - 0.5, uniform() - 0.5).normalize();
+        let b = a + dir * (0.01 + 0.19 * uniform());
+        let samples = ((b - a).norm() / 1e-3).ceil() as usize;
+        let reaches = (0..=samples)
+            .any(|k| obs.penetration(a + (b - a) * (k as Real / samples as Real)) > 0.0);
+        if reaches {
+            inside += 1;
+            assert!(obs.edge_hit(a, b).is_some(), "missed {a:?} -> {b:?}");
+        } else {
+            clear += 1;
+        }
+    }
+    assert!(
+        inside > 100 && clear > 100,
+        "{inside} reaching, {clear} clear"
+    );
+}
