@@ -143,6 +143,49 @@ fn tiny_compare_end_to_end_with_cache_shards_and_merge() {
             .is_file());
     }
     assert!(merged.join("speed_error.svg").is_file());
+
+    // The docs page over the merged comparison opens with the summary: one row per scene and
+    // one column per adaptive configuration, each cell a speed-up or the reason there is none.
+    let docs = dir.path().join("docs");
+    let (code, text) = adaptcloth(&[
+        "report",
+        merged.to_str().unwrap(),
+        "--write-docs",
+        docs.to_str().unwrap(),
+        "--docs-command",
+        "test",
+    ]);
+    assert_eq!(code, 0, "{text}");
+    let page = std::fs::read_to_string(docs.join("results.md")).unwrap();
+    let summary = page
+        .split("## Summary")
+        .nth(1)
+        .expect("a summary section")
+        .split("\n## ")
+        .next()
+        .unwrap();
+    let adaptive: Vec<&str> = labels
+        .iter()
+        .copied()
+        .filter(|l| !l.starts_with("static"))
+        .collect();
+    for label in &adaptive {
+        assert!(summary.contains(label), "{label} column: {summary}");
+    }
+    let row = summary
+        .lines()
+        .find(|l| l.starts_with("| sphere |"))
+        .expect("a sphere row");
+    let cells = row.trim_matches('|').split(" | ").count();
+    assert_eq!(cells, 2 + adaptive.len(), "{row}");
+    if !adaptive.is_empty() {
+        assert!(
+            row.contains("x") && (row.contains("wins") || row.contains("loses"))
+                || row.contains("not bracketed"),
+            "{row}"
+        );
+    }
+
     // Merging a shard twice is refused.
     let (code, text) = adaptcloth(&[
         "merge",
