@@ -88,23 +88,34 @@ fn err(path: &Path, e: impl std::fmt::Display) -> PlotError {
     }
 }
 
+/// Whether `v` is 1, 2 or 5 times a power of ten (the labelled ticks of a log axis).
+fn at_1_2_5(v: f64) -> bool {
+    if !(v.is_finite() && v > 0.0) {
+        return false;
+    }
+    let m = v / 10f64.powf(v.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .any(|k| (m - k).abs() < 1e-6 * k)
+}
+
 /// A tick label on a log axis: only at 1, 2 and 5 times a power of ten (others left blank so the
 /// labels do not collide).
 fn log_tick(v: f64) -> String {
-    if !(v.is_finite() && v > 0.0) {
-        return String::new();
+    if !at_1_2_5(v) {
+        String::new()
+    } else if v >= 1.0 {
+        format!("{v:.0}")
+    } else {
+        let d = (-v.log10()).ceil().max(0.0) as usize;
+        format!("{v:.d$}")
     }
-    let m = v / 10f64.powf(v.log10().floor());
-    if [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .any(|k| (m - k).abs() < 1e-6 * k)
-    {
-        if v >= 1.0 {
-            format!("{v:.0}")
-        } else {
-            let d = (-v.log10()).ceil().max(0.0) as usize;
-            format!("{v:.d$}")
-        }
+}
+
+/// [`log_tick`] in scientific notation (errors in metres).
+fn log_tick_sci(v: f64) -> String {
+    if at_1_2_5(v) {
+        format!("{v:.0e}")
     } else {
         String::new()
     }
@@ -182,6 +193,8 @@ fn draw_speed<DB: DrawingBackend>(
         .filter(|p| p.wall_s > 0.0 && p.error > 0.0 && p.wall_s.is_finite() && p.error.is_finite())
         .collect();
     let (x0, x1) = log_range(ok.iter().map(|p| p.wall_s));
+    // Room on the right for the slowest run's label.
+    let x1 = x1 * 2.0;
     let (y0, y1) = log_range(ok.iter().map(|p| p.error).chain(floor));
     let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 20))
@@ -196,7 +209,7 @@ fn draw_speed<DB: DrawingBackend>(
         .label_style(("sans-serif", 13))
         .axis_desc_style(("sans-serif", 15))
         .x_label_formatter(&|v| log_tick(*v))
-        .y_label_formatter(&|v| format!("{v:.1e}"))
+        .y_label_formatter(&|v| log_tick_sci(*v))
         .draw()?;
     if let Some(f) = floor.filter(|f| *f > 0.0 && f.is_finite()) {
         let style = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
