@@ -324,6 +324,15 @@ fn resolved(c: &Comparison, r: &Row) -> bool {
     r.e_rms >= 2.0 * c.manifest.reference.floor.e_rms
 }
 
+/// "wins" when a speed-up at equal error is at least 1, else "loses".
+fn verdict(speedup: f64) -> &'static str {
+    if speedup >= 1.0 {
+        "wins"
+    } else {
+        "loses"
+    }
+}
+
 /// One cell of the summary table: the speed-up at equal error, or why there is none.
 fn summary_cell(c: &Comparison, label: &str) -> String {
     let Some(r) = c.rows.iter().find(|r| r.label == label) else {
@@ -336,7 +345,7 @@ fn summary_cell(c: &Comparison, label: &str) -> String {
         return "not bracketed by the static runs".into();
     };
     let speedup = t_static / r.wall_s;
-    let verdict = if speedup >= 1.0 { "wins" } else { "loses" };
+    let verdict = verdict(speedup);
     if resolved(c, r) {
         format!("**x{speedup:.2}** ({verdict})")
     } else {
@@ -422,7 +431,7 @@ pub fn reading(c: &Comparison) -> String {
         }
         let near: Vec<String> = sorted
             .iter()
-            .filter(|r| r.e_rms < 2.0 * floor)
+            .filter(|r| !resolved(c, r))
             .map(|r| r.label.clone())
             .collect();
         if !near.is_empty() {
@@ -464,7 +473,7 @@ pub fn reading(c: &Comparison) -> String {
         match static_time_for(c, r) {
             Some(t_static) => {
                 let speedup = t_static / r.wall_s;
-                let verdict = if speedup >= 1.0 { "wins" } else { "loses" };
+                let verdict = verdict(speedup);
                 let _ = writeln!(
                     s,
                     "- **{}**: e_rms {} m in {} s; the static mesh needs {} s for that error \
