@@ -15,7 +15,7 @@
 
 use adaptcloth::math::Vec3;
 use adaptcloth::mesh::{union_jack, FaceId, Mesh, VertexId};
-use adaptcloth::output::write_frame;
+use adaptcloth::sim::write_mesh_frame as write_frame;
 use adaptcloth::strategies::bisect48::Labels;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -6,24 +6,12 @@
 //! Picks, for each time, the frame whose time is nearest. Writes `OUT.png` (the grid) and
 //! `OUT-<k>.png` (the last chosen frame of run k alone, 480 x 360), `OUT.html` (a report page with
 //! the grid and a 3D replay of every frame of every run) and prints the render times.
-use adaptcloth::render::{self, FrameMesh, SnapshotRow};
-use adaptcloth::report_html::{write_report_html, HtmlSection, ReplayRun};
+use adaptcloth::report::html::{write_report_html, HtmlSection, ReplayRun};
+use adaptcloth::report::pictures::{frame_times, pick_frames};
+use adaptcloth::report::render::{self, FrameMesh, SnapshotRow};
 use anyhow::{bail, Context, Result};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
-
-fn frames_of(dir: &Path) -> Result<Vec<(f64, PathBuf)>> {
-    let mut paths: Vec<PathBuf> = std::fs::read_dir(dir.join("frames"))
-        .with_context(|| format!("{}: no frames folder", dir.display()))?
-        .filter_map(|e| e.ok().map(|e| e.path()))
-        .filter(|p| p.extension().is_some_and(|e| e == "obj"))
-        .collect();
-    paths.sort();
-    paths
-        .into_iter()
-        .map(|p| Ok((render::read_obj_frame_time(&p)?.unwrap_or(0.0), p)))
-        .collect()
-}
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -41,18 +29,16 @@ fn main() -> Result<()> {
     let mut replays = Vec::new();
     for run in &args[3..] {
         let (dir, label) = run.split_once('=').unwrap_or((run, run));
-        let frames = frames_of(Path::new(dir))?;
+        let frames = frame_times(Path::new(dir));
+        if frames.is_empty() {
+            bail!("{dir}: no frames");
+        }
         let mut row = SnapshotRow {
             label: label.to_string(),
             frames: Vec::new(),
         };
-        for &t in &times {
-            let nearest = frames
-                .iter()
-                .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))
-                .context("a run without frames")?;
-            row.frames
-                .push((nearest.0, render::read_obj_frame(&nearest.1)?));
+        for (t, path) in pick_frames(&frames, &times) {
+            row.frames.push((t, FrameMesh::read(&path)?));
         }
         rows.push(row);
         let mut replay = ReplayRun {
@@ -61,7 +47,7 @@ fn main() -> Result<()> {
         };
         for (t, p) in &frames {
             replay.frame_times.push(*t);
-            replay.frames.push(render::read_obj_frame(p)?);
+            replay.frames.push(FrameMesh::read(p)?);
         }
         replays.push(replay);
     }

@@ -1,29 +1,11 @@
 //! The collision module's error type.
 
-use std::path::PathBuf;
-
 /// Why the obstacles of a scene could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum CollisionError {
-    /// A line of an OBJ mesh file could not be read (bad number, index out of range, ...).
-    #[error("{}:{line}: {message}", path.display())]
-    MeshFile {
-        /// The OBJ file.
-        path: PathBuf,
-        /// 1-based line number (0 when the problem concerns the whole file).
-        line: usize,
-        /// What is wrong.
-        message: String,
-    },
-    /// A mesh file could not be opened or read.
-    #[error("cannot read {}: {source}", path.display())]
-    Io {
-        /// The file.
-        path: PathBuf,
-        /// The underlying I/O error.
-        #[source]
-        source: std::io::Error,
-    },
+    /// An OBJ mesh file could not be read or parsed (names the file and the line).
+    #[error(transparent)]
+    MeshFile(#[from] crate::io::ObjError),
     /// An obstacle's geometry is invalid (non-positive or non-finite size, bad mesh, ...).
     #[error("obstacle {index}: {message}")]
     BadShape {

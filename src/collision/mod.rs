@@ -14,7 +14,7 @@
 //!
 //! Files: `shape` (one obstacle and its parry queries, nalgebra <-> glam conversions),
 //! `cylinder_ray` (closed-form ray entry into a cylinder, in place of parry's GJK), `grid` (mesh
-//! signed-distance bounds), `obj` (OBJ reader), `error` ([`CollisionError`]).
+//! signed-distance bounds), `error` ([`CollisionError`]).
 //!
 //! Depths and distances are measured from the raw surface (margin not included): the promise
 //! "no penetration beyond the collision margin" reads `max_penetration <= margin`.
@@ -22,7 +22,6 @@
 mod cylinder_ray;
 mod error;
 mod grid;
-mod obj;
 mod shape;
 #[cfg(test)]
 mod tests;

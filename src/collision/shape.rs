@@ -5,7 +5,6 @@
 use super::cylinder_ray::cylinder_entry;
 use super::error::CollisionError;
 use super::grid::DistanceGrid;
-use super::obj::read_obj;
 use crate::math::{Real, Vec3};
 use crate::scene::{ObstacleShape, ObstacleSpec};
 use parry3d_f64::math::{Pose, Vector};
@@ -155,15 +154,21 @@ impl Obstacle {
             } => {
                 let scale = positive(index, "mesh scale", *scale)?;
                 let translation = finite3(index, "mesh translation", *translation)?;
-                let obj = read_obj(&base_dir.join(file))?;
+                let obj = crate::io::read_obj(&base_dir.join(file))?;
+                if obj.faces.is_empty() {
+                    return Err(bad(format!(
+                        "mesh `{file}`: no faces: an obstacle mesh needs at least one `f` line"
+                    )));
+                }
                 let vertices = obj
-                    .vertices
+                    .positions
                     .iter()
-                    .map(|&v| to_glam(v) * scale + translation)
+                    .map(|&[x, y, z]| Vector::new(x, y, z) * scale + translation)
                     .collect();
+                let triangles = obj.triangles().map(|(_, t)| t.map(|i| i as u32)).collect();
                 let mesh = TriMesh::with_flags(
                     vertices,
-                    obj.triangles,
+                    triangles,
                     TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES,
                 )
                 .map_err(|e| bad(format!("mesh `{file}`: {e}")))?;

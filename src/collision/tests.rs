@@ -457,36 +457,45 @@ fn build_rejects_bad_shapes_and_files() {
     let err = Obstacles::build(&[missing], &collision(), Path::new("."))
         .err()
         .expect("error");
-    assert!(matches!(err, CollisionError::Io { .. }), "{err}");
+    assert!(
+        matches!(
+            err,
+            CollisionError::MeshFile(crate::io::ObjError::Io { .. })
+        ),
+        "{err}"
+    );
 }
 
 #[test]
-fn obj_reader_accepts_face_formats_and_reports_lines() {
-    let path = Path::new("test.obj");
-    let text = "# quad and triangle\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n\
-                f 1/1/1 2/1/1 3/1/1 4/1/1\nf 1//1 3//1 -1//1\nf 1/1 2/1 3/1\ns off\n";
-    let mesh = obj::parse_obj(text, path).expect("parses");
-    assert_eq!(mesh.vertices.len(), 4);
-    assert_eq!(
-        mesh.triangles,
-        vec![[0, 1, 2], [0, 2, 3], [0, 2, 3], [0, 1, 2]]
-    );
-
-    let err = obj::parse_obj("v 0 0 0\nv 1 0 0\nf 1 2 7\n", path).expect_err("error");
+fn mesh_obstacle_files_report_the_line_and_need_faces() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = |name: &str, text: &str| {
+        std::fs::write(dir.path().join(name), text).unwrap();
+        spec(
+            ObstacleShape::Mesh {
+                file: name.into(),
+                scale: 1.0,
+                translation: [0.0; 3],
+            },
+            0.0,
+        )
+    };
+    let bad_line = mesh("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n");
+    let err = Obstacles::build(&[bad_line], &collision(), dir.path())
+        .err()
+        .expect("error");
     assert!(
-        matches!(err, CollisionError::MeshFile { line: 3, .. }),
+        matches!(
+            err,
+            CollisionError::MeshFile(crate::io::ObjError::Parse { line: 3, .. })
+        ),
         "{err}"
     );
-    let err = obj::parse_obj("v 0 0 x\n", path).expect_err("error");
-    assert!(
-        matches!(err, CollisionError::MeshFile { line: 1, .. }),
-        "{err}"
-    );
-    let err = obj::parse_obj("v 0 0 0\n", path).expect_err("error");
-    assert!(
-        matches!(err, CollisionError::MeshFile { line: 0, .. }),
-        "{err}"
-    );
+    let no_faces = mesh("empty.obj", "v 0 0 0\n");
+    let err = Obstacles::build(&[no_faces], &collision(), dir.path())
+        .err()
+        .expect("error");
+    assert!(err.to_string().contains("no faces"), "{err}");
 }
 
 #[test]

@@ -1,5 +1,6 @@
-//! Evaluation: how accurate is a run, and how much did its accuracy cost? The measurement half of
-//! the head-to-head comparison.
+//! Evaluation: how accurate is one run, and how much did its accuracy cost? Measuring only: the
+//! studies that run many configurations are in `crate::study`, their presentation in
+//! `crate::report`.
 //!
 //! Where it sits: above the run driver. A run records the world positions of a fixed grid of
 //! material points at every output frame (the optional sampler of [`crate::sim::run`],
@@ -7,26 +8,16 @@
 //!
 //! - [`metrics`]: `e(t)`, `e_rms`, `e_final`, tracked-point error, point-sampled Hausdorff
 //!   distance, Pareto front, static-curve interpolation.
+//! - `nearest`: the exact nearest-point and nearest-triangle search behind the surface distances.
 //! - [`reference`]: the reference (static strategy, fine grid, small step), its compact cache keyed
 //!   by a stable hash of the physics parameters, and its error floor.
-//! - [`compare`]: configurations, parallel runs, shards and merge, `comparison.csv`.
-//! - [`plots`]: speed-error and time-series plots (plotters, embedded font).
-//! - [`report`]: `report.md`, the computed reading, `docs/results.md`.
-//! - [`render_hook`]: the calls into the rendering code (snapshots, `report.html`).
-//!
-//! Naming rule: one file per stage of the evaluation, named after what it produces.
+//! - [`frame_diff`]: the distance between two frames of the same mesh (`adaptcloth frame-diff`).
 
-pub mod compare;
+pub mod frame_diff;
 pub mod metrics;
-pub mod plots;
+mod nearest;
 pub mod reference;
-pub mod render_hook;
-pub mod report;
 
-pub use compare::{
-    compare, default_configs, merge, parse_configs, CompareError, CompareOptions, Comparison,
-    RunConfig, Shard,
-};
+pub use frame_diff::{frame_distance, FrameDiffError};
 pub use metrics::{hausdorff, pareto_front, static_time_at_error, ErrorReport};
 pub use reference::{ensure_reference, Reference, ReferenceSettings};
-pub use report::{write_docs, write_report};

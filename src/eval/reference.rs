@@ -350,13 +350,7 @@ pub fn ensure_reference(
     let floor_scene = static_variant(base, settings.floor_resolution, settings);
     let samples = Arc::new(sample_points(&reference_scene, settings.samples)?);
     std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
-    let bar = |label: &str| {
-        progress.map(|m| {
-            let b = m.add(ProgressBar::new(1));
-            super::compare::style_bar(&b, label);
-            b
-        })
-    };
+    let bar = |label: &str| progress.map(|m| crate::sim::labelled_bar(m, label));
     let jobs_ref = (
         &reference_scene,
         dir.join("reference"),
@@ -453,7 +447,7 @@ pub fn write_bin(
             bytes.extend_from_slice(&c.to_le_bytes());
         }
     }
-    crate::output::write_atomic(path, &bytes).map_err(io_err(path))
+    crate::io::write_atomic(path, &bytes).map_err(io_err(path))
 }
 
 /// Reads `reference.bin`.

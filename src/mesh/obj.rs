@@ -1,17 +1,15 @@
 //! OBJ loading of a cloth: `v` world positions, `vt` rest coordinates, `f` faces.
 //!
-//! Read at scene set-up, before the first step. The parser is hand-written (the format is small
-//! and the `vt` handling is specific): `v x y z` world positions (m; extra numbers such as `w` or
-//! vertex colours are ignored); `vt u v` rest coordinates (m, not normalised texture space; an
-//! optional `w` is ignored); `f` faces whose corners are `a/ta`, `a/ta/na` (normals ignored) with
-//! 1-based or negative (relative) indices, polygons fan-triangulated. Every corner needs a `vt`;
+//! Read at scene set-up, before the first step, through the crate's one OBJ reader
+//! ([`crate::io::obj`], which states the syntax): `v` world positions (m), `vt` rest coordinates
+//! (m, not normalised texture space), `f` polygons fan-triangulated. Every corner needs a `vt`;
 //! a vertex used with two different rest coordinates would be a seam, which is not supported.
-//! `vn`, `vp`, `o`, `g`, `s`, `usemtl`, `mtllib` and comments are ignored; any other statement is
-//! an error. Faces must be consistently oriented in rest space: all clockwise ones are flipped,
-//! mixed orientation is an error. Vertices used by no face are dropped (ids are compacted in file
+//! Faces must be consistently oriented in rest space: all clockwise ones are flipped, mixed
+//! orientation is an error. Vertices used by no face are dropped (ids are compacted in file
 //! order).
 use super::{Mesh, MeshError};
-use crate::math::{signed_area, Real, Vec2, Vec3};
+use crate::io::obj::{read_obj, ObjCorner, ObjFile};
+use crate::math::{signed_area, Vec2, Vec3};
 use std::path::Path;
 
 /// A cloth read from OBJ: the mesh (rest space from `vt`) and the world positions.
@@ -23,27 +21,12 @@ pub struct ObjCloth {
     pub positions: Vec<Vec3>,
 }
 
-/// Why an OBJ file could not be read. Line numbers are 1-based.
+/// Why an OBJ file could not be loaded as a cloth. Line numbers are 1-based.
 #[derive(Debug, thiserror::Error)]
 pub enum ObjError {
-    /// I/O error.
-    #[error("{path}: {source}")]
-    Io {
-        /// The file.
-        path: String,
-        /// The error.
-        source: std::io::Error,
-    },
-    /// A statement could not be parsed.
-    #[error("{path}:{line}: {message}")]
-    Parse {
-        /// The file.
-        path: String,
-        /// The line.
-        line: usize,
-        /// What was expected.
-        message: String,
-    },
+    /// The file could not be read or parsed (names the file, the line and the expectation).
+    #[error(transparent)]
+    File(#[from] crate::io::ObjError),
     /// A face corner has no texture coordinate (`vt`), so the vertex has no rest position.
     #[error(
         "{path}:{line}: face corner has no texture coordinate; every corner needs `v/vt` \
@@ -101,117 +84,46 @@ pub enum ObjError {
 /// Loads a cloth from an OBJ file (format in the module doc). Never panics on malformed input;
 /// every error names the file and, where it applies, the line.
 pub fn load_obj(path: &Path) -> Result<ObjCloth, ObjError> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|source| ObjError::Io {
-        path: name.clone(),
-        source,
-    })?;
-    parse_obj(&text, &name)
+    cloth_from_obj(&read_obj(path)?, &path.display().to_string())
 }
 
 /// A face corner: 0-based (vertex, texture coordinate) indices.
 type Corner = (usize, usize);
 
-/// Parses OBJ text; `path` only names the source in errors.
+/// Parses OBJ text as a cloth; `path` only names the source in errors.
+#[cfg(test)]
 pub(crate) fn parse_obj(text: &str, path: &str) -> Result<ObjCloth, ObjError> {
-    let parse_err = |line: usize, message: String| ObjError::Parse {
+    cloth_from_obj(&crate::io::obj::parse_obj(text, Path::new(path))?, path)
+}
+
+/// The cloth of a parsed OBJ file; `path` names the source in errors.
+fn cloth_from_obj(obj: &ObjFile, path: &str) -> Result<ObjCloth, ObjError> {
+    let no_tex = |line| ObjError::NoTexCoords {
         path: path.to_string(),
         line,
-        message,
     };
-    let mut positions: Vec<Vec3> = Vec::new();
-    let mut tex: Vec<Vec2> = Vec::new();
-    let mut tris: Vec<(usize, [Corner; 3])> = Vec::new();
-    for (i, raw) in text.lines().enumerate() {
-        let line = i + 1;
-        let content = raw.split('#').next().unwrap_or("");
-        let mut words = content.split_whitespace();
-        let Some(keyword) = words.next() else {
-            continue;
-        };
-        match keyword {
-            "v" | "vt" => {
-                let need = if keyword == "v" { 3 } else { 2 };
-                let mut xs = Vec::with_capacity(need);
-                for w in words.by_ref().take(need) {
-                    match w.parse::<Real>() {
-                        Ok(x) if x.is_finite() => xs.push(x),
-                        _ => {
-                            return Err(parse_err(
-                                line,
-                                format!("`{keyword}`: expected a finite number, found `{w}`"),
-                            ))
-                        }
-                    }
-                }
-                if xs.len() < need {
-                    return Err(parse_err(
-                        line,
-                        format!("`{keyword}`: expected {need} numbers, found {}", xs.len()),
-                    ));
-                }
-                if keyword == "v" {
-                    positions.push(Vec3::new(xs[0], xs[1], xs[2]));
-                } else {
-                    tex.push(Vec2::new(xs[0], xs[1]));
-                }
-            }
-            "f" => {
-                let mut corners = Vec::new();
-                for w in words {
-                    corners.push(parse_corner(w, positions.len(), tex.len()).map_err(
-                        |e| match e {
-                            CornerError::NoTex => ObjError::NoTexCoords {
-                                path: path.to_string(),
-                                line,
-                            },
-                            CornerError::Bad(m) => {
-                                parse_err(line, format!("`f` corner `{w}`: {m}"))
-                            }
-                        },
-                    )?);
-                }
-                if corners.len() < 3 {
-                    return Err(parse_err(
-                        line,
-                        format!("`f`: expected at least 3 corners, found {}", corners.len()),
-                    ));
-                }
-                for k in 1..corners.len() - 1 {
-                    tris.push((line, [corners[0], corners[k], corners[k + 1]]));
-                }
-            }
-            "vn" | "vp" | "o" | "g" | "s" | "usemtl" | "mtllib" => {}
-            other => {
-                return Err(parse_err(
-                    line,
-                    format!("unsupported statement `{other}` (expected v, vt, f)"),
-                ))
-            }
-        }
-    }
+    let tris: Vec<(usize, [Corner; 3])> = obj
+        .triangle_corners()
+        .map(|(line, c)| {
+            let pair = |c: ObjCorner| c.vt.map(|t| (c.v, t)).ok_or_else(|| no_tex(line));
+            Ok((line, [pair(c[0])?, pair(c[1])?, pair(c[2])?]))
+        })
+        .collect::<Result<_, ObjError>>()?;
     if tris.is_empty() {
         return Err(ObjError::NoFaces {
             path: path.to_string(),
         });
     }
-    // Indices may point forward; check them against the final counts.
-    for &(line, corners) in &tris {
-        for (v, t) in corners {
-            if v >= positions.len() || t >= tex.len() {
-                return Err(parse_err(
-                    line,
-                    format!(
-                        "index out of range: vertex {} of {}, texture coordinate {} of {}",
-                        v + 1,
-                        positions.len(),
-                        t + 1,
-                        tex.len()
-                    ),
-                ));
-            }
-        }
-    }
+    let positions: Vec<Vec3> = obj
+        .positions
+        .iter()
+        .map(|p| Vec3::new(p[0], p[1], p[2]))
+        .collect();
+    let tex: Vec<Vec2> = obj
+        .texcoords
+        .iter()
+        .map(|t| Vec2::new(t[0], t[1]))
+        .collect();
     // One rest position per vertex.
     let mut tex_of: Vec<Option<usize>> = vec![None; positions.len()];
     for &(line, corners) in &tris {
@@ -304,43 +216,6 @@ fn orient(
     Ok(())
 }
 
-enum CornerError {
-    NoTex,
-    Bad(String),
-}
-
-/// Parses `a/ta`, `a/ta/na` (or `a`, `a//na`, which lack a texture coordinate) into 0-based
-/// (vertex, texcoord) indices; negative indices count back from the current counts.
-fn parse_corner(w: &str, nv: usize, nt: usize) -> Result<Corner, CornerError> {
-    let parts: Vec<&str> = w.split('/').collect();
-    if parts.len() > 3 {
-        return Err(CornerError::Bad("expected v/vt or v/vt/vn".into()));
-    }
-    let index = |s: &str, count: usize, what: &str| -> Result<usize, CornerError> {
-        let i: i64 = s.parse().map_err(|_| {
-            CornerError::Bad(format!("expected an integer {what} index, found `{s}`"))
-        })?;
-        let resolved = if i > 0 {
-            Some(i as usize - 1)
-        } else if i < 0 {
-            count.checked_sub(i.unsigned_abs() as usize)
-        } else {
-            None
-        };
-        resolved.ok_or_else(|| CornerError::Bad(format!("{what} index {i} is out of range")))
-    };
-    let v = index(parts[0], nv, "vertex")?;
-    match parts.get(1) {
-        None | Some(&"") => Err(CornerError::NoTex),
-        Some(t) => {
-            if let Some(n) = parts.get(2).filter(|n| !n.is_empty()) {
-                index(n, usize::MAX, "normal")?;
-            }
-            Ok((v, index(t, nt, "texture coordinate")?))
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -389,7 +264,7 @@ mod tests {
 
     fn line_of(e: &ObjError) -> usize {
         match e {
-            ObjError::Parse { line, .. }
+            ObjError::File(crate::io::ObjError::Parse { line, .. })
             | ObjError::NoTexCoords { line, .. }
             | ObjError::Seam { line, .. }
             | ObjError::Orientation { line, .. } => *line,
@@ -430,7 +305,7 @@ mod tests {
     #[test]
     fn missing_file_and_non_conforming_mesh() {
         let e = load_obj(Path::new("/nonexistent/cloth.obj")).unwrap_err();
-        assert!(matches!(e, ObjError::Io { .. }));
+        assert!(matches!(e, ObjError::File(crate::io::ObjError::Io { .. })));
         assert!(matches!(
             parse_obj("v 0 0 0\n", "e"),
             Err(ObjError::NoFaces { .. })

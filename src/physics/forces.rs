@@ -111,7 +111,7 @@ impl ForceModel {
     }
 
     /// A model over explicit particles and springs, without a mesh (single-spring tests and the
-    /// convergence-order study of [`crate::physics::experiments`]).
+    /// convergence-order study of `crate::study::integrators`).
     pub(crate) fn from_parts(
         material: &MaterialSpec,
         forces: &ForcesSpec,

@@ -7,11 +7,10 @@
 //!
 //! Files: `elements` (the flat [`Springs`] and [`Bends`] arrays), `forces` ([`ForceModel`]: vertex
 //! parameters and force kernels), `integrator` (the [`Dynamics`] and [`Integrator`] traits, the
-//! registry) with one file per integrator under `integrator/`, `experiments` (seed 004's
-//! single-particle integrator experiments and the convergence-order study).
+//! registry) with one file per integrator under `integrator/`. Seed 004's single-particle
+//! experiments that compare the integrators live in `crate::study::integrators`.
 
 mod elements;
-pub mod experiments;
 mod forces;
 mod integrator;
 mod limits;

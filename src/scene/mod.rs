@@ -2,17 +2,18 @@
 //! collision, obstacles, adaptivity and tracked points; `--set section.key=value` overrides; and
 //! validation with errors that name the file, the line and what was expected.
 //!
-//! Loading is the first stage of a run: [`load`] (or [`load_default`]) → [`Scene`] → `sim`.
+//! Loading is the first stage of a run: [`resolve`] (or [`load`]) → [`Scene`] → `sim`.
 
 mod spec;
 mod validate;
 
 pub use spec::*;
 
+use crate::math::Real;
 use std::path::{Path, PathBuf};
 
-/// The default scene run when no scene file is given: the source's sphere test (Test III).
-pub const DEFAULT_SCENE: &str = include_str!("../../scenes/sphere.toml");
+/// The embedded scene run when no scene is named: the source's sphere test (Test III).
+pub const DEFAULT_SCENE: &str = "sphere";
 
 /// Names of the scenes shipped in `scenes/` and embedded in the binary.
 pub const EMBEDDED_SCENES: &[(&str, &str)] = &[
@@ -87,8 +88,77 @@ pub enum SceneError {
     },
 }
 
+/// Changes to a scene given on the command line: `--set section.key=value` strings, then the
+/// typed options (`--strategy`, `--integrator`, `--duration`), applied before validation.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Overrides {
+    /// `section.key=value` overrides, in order.
+    pub set: Vec<String>,
+    /// `[adaptivity] strategy`.
+    pub strategy: Option<String>,
+    /// `[integrator] name`.
+    pub integrator: Option<String>,
+    /// `[time] duration` (s).
+    pub duration: Option<Real>,
+}
+
+impl Overrides {
+    /// Only `--set` strings.
+    pub fn set(set: &[String]) -> Overrides {
+        Overrides {
+            set: set.to_vec(),
+            ..Overrides::default()
+        }
+    }
+
+    fn apply_typed(&self, scene: &mut Scene) {
+        if let Some(s) = &self.strategy {
+            scene.adaptivity.strategy = s.clone();
+        }
+        if let Some(i) = &self.integrator {
+            scene.integrator.name = i.clone();
+        }
+        if let Some(d) = self.duration {
+            scene.time.duration = d;
+        }
+    }
+}
+
+/// The scene named on the command line: a TOML file if `name` is a path that exists, else the
+/// embedded scene of that name, else (no name) the default scene; with `overrides` applied and
+/// validated.
+pub fn resolve(name: Option<&str>, overrides: &Overrides) -> Result<LoadedScene, SceneError> {
+    let Some(name) = name else {
+        return embedded_with(DEFAULT_SCENE, overrides).ok_or_else(|| not_found(DEFAULT_SCENE))?;
+    };
+    let path = Path::new(name);
+    if path.exists() {
+        return load_with(path, overrides);
+    }
+    embedded_with(name, overrides).ok_or_else(|| not_found(name))?
+}
+
+fn not_found(name: &str) -> SceneError {
+    let embedded: Vec<&str> = EMBEDDED_SCENES.iter().map(|(n, _)| *n).collect();
+    SceneError::Io {
+        path: name.to_string(),
+        source: std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            format!(
+                "no such file, and no embedded scene of that name (embedded: {})",
+                embedded.join(", ")
+            ),
+        ),
+    }
+}
+
 /// Reads, overrides (`--set`) and validates a scene file.
 pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError> {
+    load_with(path, &Overrides::set(overrides))
+}
+
+/// Reads, overrides and validates a scene file.
+pub fn load_with(path: &Path, overrides: &Overrides) -> Result<LoadedScene, SceneError> {
     let source = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
         path: source.clone(),
@@ -102,12 +172,18 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_else(|| PathBuf::from("."));
-    from_text(&text, &source, &stem, base_dir, overrides)
+    from_text_with(&text, &source, &stem, base_dir, overrides)
 }
 
-/// Loads an embedded scene by name (see [`EMBEDDED_SCENES`]); relative mesh paths resolve
-/// against the `scenes/` folder of the source tree when it exists, else the current folder.
+/// Loads an embedded scene by name (see [`EMBEDDED_SCENES`]) with `--set` overrides; relative
+/// mesh paths resolve against the `scenes/` folder of the source tree when it exists, else the
+/// current folder.
 pub fn load_embedded(name: &str, overrides: &[String]) -> Option<Result<LoadedScene, SceneError>> {
+    embedded_with(name, &Overrides::set(overrides))
+}
+
+/// Loads an embedded scene by name with overrides.
+fn embedded_with(name: &str, overrides: &Overrides) -> Option<Result<LoadedScene, SceneError>> {
     let (_, text) = EMBEDDED_SCENES.iter().find(|(n, _)| *n == name)?;
     let base_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
     let base_dir = if base_dir.is_dir() {
@@ -115,7 +191,7 @@ pub fn load_embedded(name: &str, overrides: &[String]) -> Option<Result<LoadedSc
     } else {
         PathBuf::from(".")
     };
-    Some(from_text(
+    Some(from_text_with(
         text,
         &format!("<embedded {name}>"),
         name,
@@ -124,12 +200,7 @@ pub fn load_embedded(name: &str, overrides: &[String]) -> Option<Result<LoadedSc
     ))
 }
 
-/// Loads the embedded default scene ([`DEFAULT_SCENE`], the sphere).
-pub fn load_default(overrides: &[String]) -> Result<LoadedScene, SceneError> {
-    load_embedded("sphere", overrides).expect("the sphere scene is embedded")
-}
-
-/// Parses scene text, applies the overrides, and validates.
+/// Parses scene text, applies the `--set` overrides, and validates.
 pub fn from_text(
     text: &str,
     source: &str,
@@ -137,23 +208,41 @@ pub fn from_text(
     base_dir: PathBuf,
     overrides: &[String],
 ) -> Result<LoadedScene, SceneError> {
+    from_text_with(
+        text,
+        source,
+        default_name,
+        base_dir,
+        &Overrides::set(overrides),
+    )
+}
+
+/// Parses scene text, applies the overrides, and validates.
+fn from_text_with(
+    text: &str,
+    source: &str,
+    default_name: &str,
+    base_dir: PathBuf,
+    overrides: &Overrides,
+) -> Result<LoadedScene, SceneError> {
     let parse_error = |path: &str, e: toml::de::Error| SceneError::Parse {
         path: path.to_string(),
         message: e.to_string().trim_end().to_string(),
     };
     // First pass on the text itself, so unknown keys and wrong types are reported with their line.
     let mut scene: Scene = toml::from_str(text).map_err(|e| parse_error(source, e))?;
-    if !overrides.is_empty() {
+    if !overrides.set.is_empty() {
         let mut table = toml::Table::try_from(&scene).map_err(|e| SceneError::Parse {
             path: source.to_string(),
             message: e.to_string(),
         })?;
-        for arg in overrides {
+        for arg in &overrides.set {
             apply_override(&mut table, arg)?;
         }
         scene = Scene::deserialize(toml::Value::Table(table))
             .map_err(|e| parse_error(&format!("{source} with --set"), e))?;
     }
+    overrides.apply_typed(&mut scene);
     if scene.name.is_empty() {
         scene.name = default_name.to_string();
     }

@@ -4,11 +4,13 @@
 
 use super::sample::{SamplePoints, Sampler, Trajectory};
 use super::{Simulation, StageTimes, StepError};
+use crate::io::{frame_path, write_atomic, MetricsRow, MetricsWriter};
 use crate::math::Real;
-use crate::output::{frame_path, write_atomic, write_frame, MetricsRow, MetricsWriter};
-use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
+use crate::math::Vec3;
+use crate::mesh::Mesh;
+use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -138,7 +140,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
                     sim.steps, sim.t
                 );
             }
-            write_frame(
+            write_mesh_frame(
                 &frame_path(&opts.out_dir, frames),
                 &sim.cloth.mesh,
                 &sim.cloth.x,
@@ -265,4 +267,36 @@ fn progress_bar(sim: &Simulation, show: bool) -> ProgressBar {
         bar.set_style(style.progress_chars("=> "));
     }
     bar
+}
+
+/// A new bar in `multi` over simulated milliseconds, its prefix the run's `label` (one line of a
+/// multi-run display: a study's pool, the reference and its floor).
+pub fn labelled_bar(multi: &MultiProgress, label: &str) -> ProgressBar {
+    let bar = multi.add(ProgressBar::new(1));
+    if let Ok(style) =
+        ProgressStyle::with_template("{prefix:>22} [{bar:25}] {pos}/{len} ms, {msg}, ETA {eta}")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    bar.set_prefix(label.to_string());
+    bar
+}
+
+/// Writes one frame of `mesh` at world positions `x` (indexed by slot) through
+/// [`crate::io::write_frame`]: live vertices renumbered in slot order.
+pub fn write_mesh_frame(path: &Path, mesh: &Mesh, x: &[Vec3], time: f64) -> std::io::Result<()> {
+    let mut number = vec![0usize; mesh.vertex_slots()];
+    let (mut positions, mut rest) = (Vec::new(), Vec::new());
+    for (k, v) in mesh.vertices().enumerate() {
+        number[v.0 as usize] = k;
+        let p = x[v.0 as usize];
+        positions.push([p.x, p.y, p.z]);
+        let r = mesh.rest(v);
+        rest.push([r.x, r.y]);
+    }
+    let triangles: Vec<[usize; 3]> = mesh
+        .faces()
+        .map(|f| mesh.face(f).map(|v| number[v.0 as usize]))
+        .collect();
+    crate::io::write_frame(path, time, &positions, &rest, &triangles)
 }

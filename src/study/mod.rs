@@ -1,8 +1,58 @@
-//! Studies: measurements the project reports in `docs/` and regenerates with one command each.
-//! They sit above the simulation (they build scenes and step [`crate::sim::Simulation`]s) and
-//! below the binary, so the integration tests call the same code with smaller settings.
+//! Studies: many runs, measured and tabulated. Above `eval` (which measures one run against a
+//! reference) and below `report` (which presents what a study wrote).
 //!
-//! - [`stability`]: the integrator stability suite behind `adaptcloth stability` and
-//!   `docs/stability.md` (largest stable steps by bisection, the hard cases).
+//! - [`config`]: run configurations (`strategy@resolution` x integrators).
+//! - [`compare`]: a comparison of one scene: the reference, then every configuration on the pool.
+//! - [`table`]: the comparison table (`comparison.csv` with named columns, `comparison.json`).
+//! - [`pool`]: the parallel pool with one progress bar per run.
+//! - [`shard`], [`merge`]: a study spread over machines and combined again.
+//! - [`stability`]: the largest stable step and the hard cases (`adaptcloth stability`).
+//! - [`integrators`]: seed 004's single-particle integrator experiments and convergence orders.
 
+pub mod compare;
+pub mod config;
+pub mod integrators;
+pub mod merge;
+pub mod pool;
+pub mod shard;
 pub mod stability;
+pub mod table;
+
+pub use compare::{compare, CompareOptions};
+pub use config::{default_spec, parse_configs, RunConfig};
+pub use merge::merge;
+pub use shard::Shard;
+pub use table::{read_comparison, Comparison, Row};
+
+use crate::eval::reference::ReferenceError;
+use std::path::Path;
+
+/// Why a study could not be run, merged or read.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    /// A configuration, shard or option is invalid (bad input).
+    #[error("{0}")]
+    Config(String),
+    /// The reference could not be made.
+    #[error("reference: {0}")]
+    Reference(#[from] ReferenceError),
+    /// Reading or writing outputs failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file or folder.
+        path: String,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// Folders cannot be merged or read as comparisons (bad input).
+    #[error("merge: {0}")]
+    Merge(String),
+}
+
+/// Maps an I/O error on `path` to [`StudyError::Io`].
+pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> StudyError + '_ {
+    move |source| StudyError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}

@@ -4,8 +4,8 @@
 //! Skipped (with a clear message) when no Chromium is installed, except under CI (`CI=true`),
 //! where a missing browser fails the test: `.ci/run` installs Debian's `chromium`.
 use crate::common::{run_into, scene};
-use adaptcloth::render::{self, FrameMesh, SnapshotRow};
-use adaptcloth::report_html::{write_report_html, HtmlSection, ReplayRun};
+use adaptcloth::report::html::{write_report_html, HtmlSection, ReplayRun};
+use adaptcloth::report::render::{self, FrameMesh, SnapshotRow};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -73,12 +73,13 @@ fn tiny_run(dir: &Path) -> (Vec<f64>, Vec<FrameMesh>) {
     paths.sort();
     let times = paths
         .iter()
-        .map(|p| render::read_obj_frame_time(p).unwrap().expect("frame time"))
+        .map(|p| {
+            adaptcloth::io::read_frame_time(p)
+                .unwrap()
+                .expect("frame time")
+        })
         .collect();
-    let frames = paths
-        .iter()
-        .map(|p| render::read_obj_frame(p).unwrap())
-        .collect();
+    let frames = paths.iter().map(|p| FrameMesh::read(p).unwrap()).collect();
     (times, frames)
 }
 

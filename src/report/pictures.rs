@@ -1,8 +1,9 @@
-//! The calls into the rendering code (`render::snapshot_grid` for the snapshot PNG,
-//! `report_html::write_report_html` for the self-contained `report.html`), kept in two small
-//! functions; a rendering failure is reported in the report, never fatal to the comparison.
+//! The pictures of a comparison: the snapshot grid (`render::snapshot_grid`) and the
+//! self-contained `report.html` (`html::write_report_html`), kept in two small functions; a
+//! rendering failure is reported in the report, never fatal to the comparison.
 
-use super::compare::Comparison;
+use super::render::FrameMesh;
+use crate::study::Comparison;
 use std::path::{Path, PathBuf};
 
 /// What a rendering call produced.
@@ -18,7 +19,7 @@ pub enum RenderOutcome {
 /// 5.12: four times per run).
 pub const SNAPSHOT_FRACTIONS: [f64; 4] = [0.25, 0.5, 0.75, 1.0];
 
-pub use crate::report_html::HtmlSection as Section;
+pub use super::html::HtmlSection as Section;
 
 /// The frames of a run folder with their times (s), read from each OBJ's first line.
 pub fn frame_times(run_dir: &Path) -> Vec<(f64, PathBuf)> {
@@ -32,7 +33,7 @@ pub fn frame_times(run_dir: &Path) -> Vec<(f64, PathBuf)> {
     files.sort();
     files
         .into_iter()
-        .filter_map(|p| Some((crate::render::read_obj_frame_time(&p).ok()??, p)))
+        .filter_map(|p| Some((crate::io::read_frame_time(&p).ok()??, p)))
         .collect()
 }
 
@@ -65,7 +66,7 @@ pub fn shown_runs(out: &Path, c: &Comparison) -> Vec<(String, PathBuf)> {
 
 /// Writes `out/snapshots.png`: one row per run, one column per snapshot time.
 pub fn snapshots(out: &Path, c: &Comparison) -> RenderOutcome {
-    use crate::render::{obstacle_meshes, read_obj_frame, snapshot_grid, SnapshotRow};
+    use super::render::{obstacle_meshes, snapshot_grid, SnapshotRow};
     let targets: Vec<f64> = SNAPSHOT_FRACTIONS
         .iter()
         .map(|f| f * c.manifest.duration)
@@ -74,7 +75,7 @@ pub fn snapshots(out: &Path, c: &Comparison) -> RenderOutcome {
     for (label, dir) in shown_runs(out, c) {
         let mut frames = Vec::new();
         for (t, path) in pick_frames(&frame_times(&dir), &targets) {
-            match read_obj_frame(&path) {
+            match FrameMesh::read(&path) {
                 Ok(m) => frames.push((t, m)),
                 Err(e) => return RenderOutcome::Failed(format!("{}: {e}", path.display())),
             }
@@ -94,8 +95,8 @@ pub fn snapshots(out: &Path, c: &Comparison) -> RenderOutcome {
 
 /// Writes `out/report.html` with the sections and a 3D replay of every run.
 pub fn html(out: &Path, c: &Comparison, title: &str, sections: &[Section]) -> RenderOutcome {
-    use crate::render::{obstacle_meshes, read_obj_frame};
-    use crate::report_html::{write_report_html, ReplayRun};
+    use super::html::{write_report_html, ReplayRun};
+    use super::render::obstacle_meshes;
     let mut replays = Vec::new();
     for (label, dir) in shown_runs(out, c).into_iter().skip(1) {
         let mut run = ReplayRun {
@@ -104,7 +105,7 @@ pub fn html(out: &Path, c: &Comparison, title: &str, sections: &[Section]) -> Re
             frames: Vec::new(),
         };
         for (t, path) in frame_times(&dir) {
-            match read_obj_frame(&path) {
+            match FrameMesh::read(&path) {
                 Ok(m) => {
                     run.frame_times.push(t);
                     run.frames.push(m);

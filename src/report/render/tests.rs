@@ -1,7 +1,6 @@
 //! Unit tests of the renderer: OBJ reading, obstacle meshes, rasterisation.
 
 use super::camera::Camera;
-use super::obj::parse_obj;
 use super::picture::draw_scene;
 use super::*;
 use crate::scene::{ObstacleShape, ObstacleSpec};
@@ -52,50 +51,18 @@ fn reads_a_frame_written_by_a_run() {
     let text = "# adaptcloth frame, t = 0.250000 s\n\
                 v 0 0 0.3\nv 1 0 0.3\nv 0 1 0.3\nv 1 1 0.25\n\
                 vt 0 0\nvt 1 0\nvt 0 1\nvt 1 1\n\
-                f 1/1 2/2 3/3\nf 2/2 4/4 3/3\n";
+                f 1/1 2/2 3/3\nf 2/2 4/4 3/3 1/1\n";
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("frame_00001.obj");
     std::fs::write(&path, text).unwrap();
-    let m = read_obj_frame(&path).unwrap();
+    let m = FrameMesh::read(&path).unwrap();
     assert_eq!(m.positions.len(), 4);
     assert_eq!(m.positions[3], [1.0, 1.0, 0.25]);
-    assert_eq!(m.faces, vec![[0, 1, 2], [1, 3, 2]]);
-    assert_eq!(read_obj_frame_time(&path).unwrap(), Some(0.25));
-}
-
-#[test]
-fn obj_polygons_are_fanned_and_negative_indices_count_from_the_end() {
-    let m = parse_obj(
-        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf -4 -3//1 -2 -1\n",
-        Path::new("q"),
-    )
-    .unwrap();
-    assert_eq!(m.faces, vec![[0, 1, 2], [0, 2, 3]]);
-}
-
-#[test]
-fn obj_errors_name_the_line_and_the_expectation() {
-    let cases = [
-        ("v 0 0 0\nv 1 0\n", 2, "three finite numbers"),
-        ("v 0 0 0\nv 1 0 0\nv 0 1 0\n# c\nf 1 2 4\n", 5, "1..=3"),
-        ("v 0 0 0\nv 1 0 0\nf 1 2\n", 3, "at least three"),
-        ("v 0 0 0\nf 1 x 2\n", 2, "integer vertex indices"),
-        ("v nan 0 0\n", 1, "finite"),
-    ];
-    for (text, line_no, expected_part) in cases {
-        match parse_obj(text, Path::new("bad.obj")) {
-            Err(RenderError::Obj { line, expected, .. }) => {
-                assert_eq!(line, line_no, "{text}");
-                assert!(expected.contains(expected_part), "{expected}");
-            }
-            other => panic!("{text}: {other:?}"),
-        }
-    }
-    let e = parse_obj("f 1 2 3\n", Path::new("bad.obj")).unwrap_err();
-    assert!(e.to_string().starts_with("bad.obj:1: expected"), "{e}");
+    assert_eq!(m.faces, vec![[0, 1, 2], [1, 3, 2], [1, 2, 0]]);
+    m.validate().unwrap();
     assert!(matches!(
-        read_obj_frame(Path::new("/nonexistent/frame.obj")),
-        Err(RenderError::Io { .. })
+        FrameMesh::read(Path::new("/nonexistent/frame.obj")),
+        Err(RenderError::Obj(crate::io::ObjError::Io { .. }))
     ));
 }
 

@@ -1,25 +1,23 @@
 //! Pictures of runs: a small software rasteriser to PNG, outside the step loop.
 //!
-//! Reads the OBJ frames a run writes ([`read_obj_frame`]), builds drawable triangle meshes of the
+//! Reads the OBJ frames a run writes ([`FrameMesh::read`]), builds drawable triangle meshes of the
 //! scene's obstacles ([`obstacle_meshes`]) and draws them with a perspective camera looking down
 //! at 30 degrees from a 3/4 view: one picture ([`render_png`]) or a grid of snapshots, one row per
-//! run and one column per time ([`snapshot_grid`]). `adaptcloth compare` and the docs use it; the
+//! run and one column per time ([`snapshot_grid`]). The reports and `adaptcloth render` use it; the
 //! simulation never does.
 //!
-//! Files: `obj.rs` (frame reader), `obstacles.rs` (obstacle tessellation), `camera.rs` (framing
+//! Files: `obstacles.rs` (obstacle tessellation), `camera.rs` (framing
 //! and projection), `raster.rs` (z-buffered triangle fill with barycentric edge lines), `text.rs`
 //! (labels with the DejaVu font), `picture.rs` (the public pictures and PNG encoding).
 //!
 //! Everything is deterministic: same meshes, same bytes.
 
 mod camera;
-mod obj;
 mod obstacles;
 mod picture;
 mod raster;
 mod text;
 
-pub use obj::{read_obj_frame, read_obj_frame_time};
 pub use obstacles::obstacle_meshes;
 pub use picture::{render_png, snapshot_grid, SnapshotRow};
 
@@ -63,18 +61,9 @@ pub enum RenderError {
         #[source]
         source: std::io::Error,
     },
-    /// A line of an OBJ file is not what was expected.
-    #[error("{}:{line}: expected {expected}, found `{found}`", path.display())]
-    Obj {
-        /// The file.
-        path: PathBuf,
-        /// 1-based line number.
-        line: usize,
-        /// What the line should have held.
-        expected: String,
-        /// The offending text.
-        found: String,
-    },
+    /// An OBJ file could not be read or parsed.
+    #[error(transparent)]
+    Obj(#[from] crate::io::ObjError),
     /// A mesh to draw refers to a vertex it does not have.
     #[error("face {face} refers to vertex {index} but the mesh has {vertex_count} vertices")]
     BadFace {
@@ -113,6 +102,19 @@ pub enum RenderError {
 }
 
 impl FrameMesh {
+    /// Reads an OBJ file (a run's frame, or an obstacle mesh): its positions and fan triangles.
+    pub fn read(path: &std::path::Path) -> Result<FrameMesh, RenderError> {
+        Ok(FrameMesh::from_obj(&crate::io::read_obj(path)?))
+    }
+
+    /// The drawable mesh of a parsed OBJ file (positions rounded to `f32`).
+    pub fn from_obj(obj: &crate::io::ObjFile) -> FrameMesh {
+        FrameMesh {
+            positions: obj.positions.iter().map(|p| p.map(|x| x as f32)).collect(),
+            faces: obj.triangles().map(|(_, t)| t.map(|i| i as u32)).collect(),
+        }
+    }
+
     /// Checks that every face index is in range.
     pub fn validate(&self) -> Result<(), RenderError> {
         let n = self.positions.len();

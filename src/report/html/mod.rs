@@ -20,7 +20,7 @@
 
 pub mod markdown;
 
-use crate::render::FrameMesh;
+use crate::report::render::FrameMesh;
 use base64::Engine as _;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -248,7 +248,7 @@ pub fn write_report_html(
          <script type=\"application/json\" id=\"replay-data\">{json}</script>\n\
          <script>\n{SCRIPT}</script>\n</body>\n</html>\n"
     );
-    crate::output::write_atomic(path, html.as_bytes())
+    crate::io::write_atomic(path, html.as_bytes())
 }
 
 /// Counts script errors from the very start (a syntax error in the replay script included).

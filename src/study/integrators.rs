@@ -1,6 +1,6 @@
 //! Integrator experiments: seed 004's single-particle comparison (§6.1, Tables 2-5) and the
-//! convergence-order study on a damped spring. Used by `adaptcloth integrators`, by
-//! `docs/integrators.md` and by the tests.
+//! convergence-order study on a damped spring. Used by `adaptcloth integrators`, which writes
+//! [`report`] into `docs/integrators.md`, and by the tests.
 //!
 //! **Seed 004's experiments** (a particle on a line, every integrator through the same
 //! [`Dynamics`] interface as the cloth):
@@ -15,8 +15,8 @@
 //! statistic is the population standard deviation of the position error `x_num - x_exact` over
 //! the `n + 1` recorded points (start included), which reproduces Table 2's Euler entry to 1 %.
 
-use super::{integrator_named, Dynamics, ForceModel, Springs, INTEGRATORS};
 use crate::math::{Real, Vec3};
+use crate::physics::{integrator_named, Dynamics, ForceModel, Springs, INTEGRATORS};
 use crate::scene::{ForcesSpec, MaterialSpec, SpringMode};
 
 /// A particle on the x axis with a prescribed acceleration `a(t)` (no velocity dependence).
@@ -294,4 +294,133 @@ pub fn markdown_table() -> String {
         }
     }
     out
+}
+
+/// Opening marker of the generated tables in `docs/integrators.md`.
+pub const TABLE_BEGIN: &str =
+    "<!-- BEGIN integrators table (adaptcloth integrators --write-docs) -->";
+/// Closing marker of the generated tables.
+pub const TABLE_END: &str = "<!-- END integrators table -->";
+
+/// Seed 004's tables beside ours ([`markdown_table`]) and the observed convergence orders.
+pub fn report() -> String {
+    let mut table = markdown_table();
+    table += "
+**Observed convergence order** on the damped spring (`log2(e(n)/e(2n))` at t = 1 s, n = 400):
+
+| integrator | order |\n|---|---|\n";
+    for name in INTEGRATORS {
+        if *name == "verlet_relaxation" {
+            table += "| `verlet_relaxation` | - (rigid bars: converges to another problem) |\n";
+            continue;
+        }
+        table += &format!("| `{name}` | {:.3} |\n", observed_order(name, 400));
+    }
+    table
+}
+
+/// `document` with the text between [`TABLE_BEGIN`] and [`TABLE_END`] replaced by `table`;
+/// `None` when the markers are missing.
+pub fn replace_generated(document: &str, table: &str) -> Option<String> {
+    let (a, b) = (document.find(TABLE_BEGIN)?, document.find(TABLE_END)?);
+    (a < b).then(|| {
+        format!(
+            "{}{TABLE_BEGIN}\n{table}\n{}",
+            &document[..a],
+            &document[b..]
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn generated_tables_replace_only_the_text_between_the_markers() {
+        let doc = format!("intro\n{TABLE_BEGIN}\nold\n{TABLE_END}\noutro\n");
+        let new = replace_generated(&doc, "new").unwrap();
+        assert_eq!(
+            new,
+            format!("intro\n{TABLE_BEGIN}\nnew\n{TABLE_END}\noutro\n")
+        );
+        assert!(replace_generated("no markers", "x").is_none());
+    }
+
+    #[test]
+    fn verlet_family_and_velocity_verlet_are_exact_under_constant_acceleration() {
+        let exp = seed_experiments()[0];
+        assert!(!exp.random);
+        for name in [
+            "velocity_verlet",
+            "verlet",
+            "time_corrected_verlet",
+            "verlet_relaxation",
+            "rk4",
+        ] {
+            let e = trajectory_errors(&exp, name);
+            let worst = e.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
+            // Positions reach ~190 m: round-off is ~1e-13 m.
+            assert!(worst <= 1e-10, "{name}: error {worst:e} m");
+        }
+        // The Euler schemes are not exact: their error grows linearly, dt² a n / 2 at step n.
+        for name in ["explicit_euler", "symplectic_euler"] {
+            let e = trajectory_errors(&exp, name);
+            let want = 0.25 * 0.25 * 9.81 * 25.0 / 2.0;
+            assert!((e[25].abs() - want).abs() <= 1e-9, "{name}: {}", e[25]);
+        }
+    }
+
+    #[test]
+    fn time_corrected_and_velocity_verlet_stay_exact_under_random_steps_but_position_verlet_does_not(
+    ) {
+        let exp = seed_experiments()[1];
+        assert!(exp.random);
+        for name in ["velocity_verlet", "rk4"] {
+            let e = trajectory_errors(&exp, name);
+            let worst = e.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
+            assert!(worst <= 1e-10, "{name}: error {worst:e} m");
+        }
+        // Seed 004's (4.4d) assumes dt_prev = dt in its acceleration term: off by a dt (dt - dt_prev)/2
+        // per step, far less than position Verlet, which ignores the step change altogether.
+        let sd = |name| std_dev(&trajectory_errors(&exp, name));
+        let (tcv, verlet) = (sd("time_corrected_verlet"), sd("verlet"));
+        assert!(
+            tcv > 1e-3 && verlet > 10.0 * tcv,
+            "tcv {tcv}, verlet {verlet}"
+        );
+    }
+
+    #[test]
+    fn verlet_relaxation_keeps_the_bar_at_its_rest_length() {
+        // The damped spring released 10 % stretched: relaxation makes it a rigid bar at once.
+        for n in [50, 100] {
+            let e = damped_spring_error("verlet_relaxation", n);
+            // The error is the whole elastic motion (<= the 0.1 m release stretch), not a step error.
+            assert!(e > 1e-3 && e <= 0.1, "{e}");
+            assert!((e - damped_spring_error("verlet_relaxation", 2 * n)).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn observed_convergence_orders_on_a_damped_spring() {
+        let expected = [
+            ("explicit_euler", 1.0),
+            ("symplectic_euler", 1.0),
+            ("implicit_euler", 1.0),
+            ("velocity_verlet", 2.0),
+            ("verlet", 2.0),
+            ("time_corrected_verlet", 2.0),
+            ("rk4", 4.0),
+        ];
+        // verlet_relaxation replaces each spring by a rigid bar: it converges to another problem.
+        assert_eq!(expected.len() + 1, INTEGRATORS.len());
+        for (name, order) in expected {
+            let p = observed_order(name, 400);
+            assert!(
+                (p - order).abs() <= 0.25,
+                "{name}: observed order {p:.3}, expected {order}"
+            );
+        }
+    }
 }

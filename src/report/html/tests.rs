@@ -17,7 +17,7 @@ fn the_report_is_self_contained_and_embeds_its_images() {
     let svg = dir.path().join("error.svg");
     std::fs::write(&svg, SVG).unwrap();
     let png = dir.path().join("grid.png");
-    crate::render::render_png(&square(0.0), &[], 8, 6, &png).unwrap();
+    crate::report::render::render_png(&square(0.0), &[], 8, 6, &png).unwrap();
     let sections = [HtmlSection {
         title: "Errors <vs> resolution".into(),
         markdown: "| a | b |\n|---|---|\n| 1 | 2 |\n\n![inline](grid.png) and ![remote](https://example.org/x.png)".into(),

@@ -2,7 +2,7 @@
 //! (counter-clockwise seen from outside) faces for the solids, an upward-facing square for the
 //! ground.
 
-use super::{obj, FrameMesh, RenderError};
+use super::{FrameMesh, RenderError};
 use crate::scene::{ObstacleShape, ObstacleSpec};
 use std::f32::consts::PI;
 use std::path::Path;
@@ -81,7 +81,7 @@ pub fn obstacle_meshes(
                 scale,
                 translation,
             } => {
-                let mut m = obj::read_obj_frame(&base_dir.join(file))?;
+                let mut m = FrameMesh::read(&base_dir.join(file))?;
                 let (s, t) = (*scale as f32, to_f32(translation));
                 for p in &mut m.positions {
                     *p = [p[0] * s + t[0], p[1] * s + t[1], p[2] * s + t[2]];

@@ -1,0 +1,237 @@
+//! The command line's arguments (clap): one struct per command. `src/main.rs` parses them and
+//! [`super::execute`] runs the command.
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+
+/// `adaptcloth`: the commands.
+#[derive(Parser)]
+#[command(
+    name = "adaptcloth",
+    version,
+    about = "Cloth simulation on an adaptive triangle mesh"
+)]
+pub struct Cli {
+    /// The command to run.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// One command of the binary.
+#[derive(Subcommand)]
+pub enum Command {
+    /// Run a scene and write frames, metrics.csv and summary.json.
+    Run(RunArgs),
+    /// List the scenes embedded in the binary.
+    Scenes,
+    /// Compute (or load from the cache) a scene's reference solution and report its error floor.
+    Reference(ReferenceArgs),
+    /// Run a list of configurations of a scene against the reference; write the comparison
+    /// table, plots and reports.
+    Compare(CompareArgs),
+    /// Combine the folders of `compare --shard i/n` runs into one comparison and report.
+    Merge(MergeArgs),
+    /// Rewrite the plots and reports of existing comparison folders (no run), optionally
+    /// docs/results.md over them.
+    Report(ReportArgs),
+    /// Seed 004's single-particle integrator experiments (Tables 2-5) beside the source's numbers,
+    /// and the observed convergence orders on a damped spring.
+    Integrators {
+        /// Also write the tables into docs/integrators.md (between its generated-table markers).
+        #[arg(long)]
+        write_docs: bool,
+        /// The document to update with --write-docs.
+        #[arg(long, default_value = "docs/integrators.md")]
+        docs: PathBuf,
+    },
+    /// Run the stability suite (bisection of the largest stable step, hard cases for every built
+    /// strategy) and write its report.
+    Stability {
+        /// Report file.
+        #[arg(long, default_value = "docs/stability.md")]
+        out: PathBuf,
+        /// Small sizes (the test sizes): a quick look, not the report.
+        #[arg(long)]
+        quick: bool,
+    },
+    /// Render one OBJ frame (cloth, edges visible) to a PNG, with a scene's obstacles if given.
+    Render(RenderArgs),
+    /// RMS and largest distance between the vertices of two frames of the same mesh (m).
+    FrameDiff {
+        /// First frame (OBJ).
+        a: PathBuf,
+        /// Second frame (OBJ).
+        b: PathBuf,
+    },
+}
+
+/// `adaptcloth report`.
+#[derive(clap::Args)]
+pub struct ReportArgs {
+    /// Comparison folders (written by `compare` or `merge`).
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Also write DIR/results.md (and its plots under DIR/results/) over these comparisons.
+    #[arg(long, value_name = "DIR")]
+    pub write_docs: Option<PathBuf>,
+    /// Extra markdown file included in results.md after the introduction (settings, costs).
+    #[arg(long, value_name = "FILE")]
+    pub docs_notes: Option<PathBuf>,
+    /// The command to name in results.md as the one that regenerates it.
+    #[arg(long, default_value = "scripts/results.sh")]
+    pub docs_command: String,
+}
+
+/// Options of the reference shared by `reference` and `compare`.
+#[derive(clap::Args, Clone)]
+pub struct RefOpts {
+    /// Reference grid (vertices per side).
+    #[arg(long = "ref-resolution", default_value_t = 65)]
+    pub ref_resolution: usize,
+    /// Grid of the floor run compared against the reference.
+    #[arg(long = "floor-resolution", default_value_t = 33)]
+    pub floor_resolution: usize,
+    /// Dynamic step factor of the reference and floor runs ("scene" keeps the scene's).
+    #[arg(long = "ref-beta", default_value = "0.01")]
+    pub ref_beta: String,
+    /// Integrator of the reference and floor runs (default: the scene's).
+    #[arg(long = "ref-integrator")]
+    pub ref_integrator: Option<String>,
+    /// Step until the first contact of the reference and floor runs, s ("scene" keeps the
+    /// scene's; 0 = dynamic step from the start).
+    #[arg(long = "ref-dt-initial", default_value = "0")]
+    pub ref_dt_initial: String,
+    /// Material-point sample grid (per side).
+    #[arg(long, default_value_t = 64)]
+    pub samples: usize,
+    /// Reference cache folder.
+    #[arg(long, default_value = "out/reference-cache")]
+    pub cache: PathBuf,
+    /// Recompute the reference even when it is cached.
+    #[arg(long)]
+    pub force_reference: bool,
+}
+
+/// `adaptcloth reference`.
+#[derive(clap::Args)]
+pub struct ReferenceArgs {
+    /// Scene file (TOML) or embedded scene name. Default: sphere.
+    pub scene: Option<String>,
+    /// The reference's options.
+    #[command(flatten)]
+    pub reference: RefOpts,
+    /// Simulated duration in seconds (overrides the scene).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Override any scene key: --set section.key=value (repeatable).
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Run the reference and the floor run in parallel (2) or one after the other (1).
+    #[arg(long, default_value_t = 2)]
+    pub jobs: usize,
+    /// No progress bars.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `adaptcloth compare`.
+#[derive(clap::Args)]
+pub struct CompareArgs {
+    /// Scene files or embedded scene names (default: sphere).
+    pub scenes: Vec<String>,
+    /// Compare the three source scenes: sphere, round_table, bunny.
+    #[arg(long)]
+    pub all_source_scenes: bool,
+    /// Configurations: strategy[@resolution],... (default: static@5,static@9,static@17,static@33,
+    /// remesh,simnett,bisect48; adaptive ones start at the scene's resolution).
+    #[arg(long)]
+    pub runs: Option<String>,
+    /// Integrators, comma-separated; every configuration runs with each (default: the scene's).
+    #[arg(long, value_delimiter = ',')]
+    pub integrators: Vec<String>,
+    /// The reference's options.
+    #[command(flatten)]
+    pub reference: RefOpts,
+    /// Parallel runs.
+    #[arg(long, default_value_t = 1)]
+    pub jobs: usize,
+    /// Run only slice i of n (1-based) of the configurations; combine with `adaptcloth merge`.
+    #[arg(long)]
+    pub shard: Option<String>,
+    /// Output folder (one scene), or parent folder (several: one subfolder per scene).
+    /// Default: out/compare-<scene>, or out/compare/<scene>.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Simulated duration in seconds (overrides the scene).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Override any scene key for every run and the reference: --set section.key=value.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// Also write DIR/results.md (and its plots under DIR/results/) over the compared scenes.
+    #[arg(long, value_name = "DIR")]
+    pub write_docs: Option<PathBuf>,
+    /// Extra markdown file included in results.md after the introduction (settings, costs).
+    #[arg(long, value_name = "FILE")]
+    pub docs_notes: Option<PathBuf>,
+    /// No progress bars.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `adaptcloth merge`.
+#[derive(clap::Args)]
+pub struct MergeArgs {
+    /// Folders written by `compare --shard i/n` (same scene, reference and configurations).
+    #[arg(required = true)]
+    pub dirs: Vec<PathBuf>,
+    /// Output folder of the merged comparison.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// `adaptcloth run`.
+#[derive(clap::Args)]
+pub struct RunArgs {
+    /// Scene file (TOML), or the name of an embedded scene (see `adaptcloth scenes`).
+    /// Default: the embedded sphere scene.
+    pub scene: Option<String>,
+    /// Adaptivity strategy: static, remesh, simnett or bisect48 (overrides the scene).
+    #[arg(long)]
+    pub strategy: Option<String>,
+    /// Integrator (overrides the scene): explicit_euler, symplectic_euler, velocity_verlet, verlet,
+    /// time_corrected_verlet, verlet_relaxation, rk4, implicit_euler.
+    #[arg(long)]
+    pub integrator: Option<String>,
+    /// Simulated duration in seconds (overrides the scene).
+    #[arg(long)]
+    pub duration: Option<f64>,
+    /// Output folder. Default: out/<scene>-<strategy>.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Override any scene key: --set section.key=value (repeatable), e.g. --set cloth.resolution=17.
+    #[arg(long = "set", value_name = "KEY=VALUE")]
+    pub set: Vec<String>,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `adaptcloth render`.
+#[derive(clap::Args)]
+pub struct RenderArgs {
+    /// The frame (OBJ, e.g. out/sphere-remesh/frames/frame_00018.obj).
+    pub frame: PathBuf,
+    /// The PNG to write.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Scene file or embedded scene name whose obstacles are drawn too.
+    #[arg(long)]
+    pub scene: Option<String>,
+    /// Picture size in pixels.
+    #[arg(long, default_value_t = 640)]
+    pub width: u32,
+    /// Picture size in pixels.
+    #[arg(long, default_value_t = 480)]
+    pub height: u32,
+}

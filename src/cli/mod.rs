@@ -1,0 +1,133 @@
+//! The commands of the `adaptcloth` binary. `src/main.rs` parses the arguments ([`args`]) and
+//! calls [`execute`]; every command returns `Result<(), CliError>`, and [`CliError::exit_code`] is
+//! the one place errors become exit codes: 0 done; 1 a run diverged or failed, or outputs could
+//! not be written; 2 bad input (scene file, option, value, input file); 130 interrupted.
+//!
+//! Files: `args` (clap), `run` (run, scenes, render, frame-diff), `compare` (reference, compare,
+//! merge, report), `suites` (integrators, stability).
+
+pub mod args;
+mod compare;
+mod run;
+mod suites;
+
+use crate::eval::reference::ReferenceError;
+use crate::report::ReportError;
+use crate::scene::SceneError;
+use crate::study::StudyError;
+use args::Command;
+use std::io::IsTerminal;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, OnceLock};
+
+/// Why a command did not complete; the variant decides the exit code.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// Bad input: a scene, an option, a value or an input file (exit 2).
+    #[error("{0}")]
+    Input(String),
+    /// A run diverged or failed, or outputs could not be written (exit 1).
+    #[error("{0}")]
+    Failed(String),
+    /// Stopped by Ctrl-C (exit 130); the message may be empty.
+    #[error("{0}")]
+    Interrupted(String),
+}
+
+impl CliError {
+    /// The process exit code of this error.
+    pub fn exit_code(&self) -> u8 {
+        match self {
+            CliError::Input(_) => 2,
+            CliError::Failed(_) => 1,
+            CliError::Interrupted(_) => 130,
+        }
+    }
+}
+
+impl From<SceneError> for CliError {
+    fn from(e: SceneError) -> Self {
+        CliError::Input(e.to_string())
+    }
+}
+
+impl From<StudyError> for CliError {
+    fn from(e: StudyError) -> Self {
+        match e {
+            StudyError::Config(_) | StudyError::Merge(_) => CliError::Input(e.to_string()),
+            StudyError::Reference(r) => r.into(),
+            StudyError::Io { .. } => CliError::Failed(e.to_string()),
+        }
+    }
+}
+
+impl From<ReferenceError> for CliError {
+    fn from(e: ReferenceError) -> Self {
+        match e {
+            ReferenceError::Settings(_) => CliError::Input(e.to_string()),
+            _ => CliError::Failed(e.to_string()),
+        }
+    }
+}
+
+impl From<ReportError> for CliError {
+    fn from(e: ReportError) -> Self {
+        CliError::Failed(e.to_string())
+    }
+}
+
+/// Runs one command.
+pub fn execute(command: Command) -> Result<(), CliError> {
+    match command {
+        Command::Run(a) => run::run(a),
+        Command::Scenes => run::scenes(),
+        Command::Render(a) => run::render(a),
+        Command::FrameDiff { a, b } => run::frame_diff(&a, &b),
+        Command::Reference(a) => compare::reference(a),
+        Command::Compare(a) => compare::compare(a),
+        Command::Merge(a) => compare::merge(a),
+        Command::Report(a) => compare::report(a),
+        Command::Integrators { write_docs, docs } => suites::integrators(write_docs, &docs),
+        Command::Stability { out, quick } => suites::stability(&out, quick),
+    }
+}
+
+/// The process's one Ctrl-C flag: the first press asks runs to stop cleanly, a second ends the
+/// process at once (exit 130).
+pub fn interrupt_flag() -> Arc<AtomicBool> {
+    static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
+    FLAG.get_or_init(|| {
+        let flag = Arc::new(AtomicBool::new(false));
+        let handler_flag = flag.clone();
+        let _ = ctrlc::set_handler(move || {
+            if handler_flag.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+        });
+        flag
+    })
+    .clone()
+}
+
+/// Whether to draw progress bars: not `--quiet`, and stderr is a terminal.
+fn show_progress(quiet: bool) -> bool {
+    !quiet && std::io::stderr().is_terminal()
+}
+
+/// Writes a generated report atomically and says so.
+fn write_report_file(path: &Path, text: &str) -> Result<(), CliError> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| CliError::Failed(format!("creating {}: {e}", dir.display())))?;
+    }
+    crate::io::write_atomic(path, text.as_bytes())
+        .map_err(|e| CliError::Failed(format!("writing {}: {e}", path.display())))?;
+    eprintln!("wrote {}", path.display());
+    Ok(())
+}
+
+/// The text of an input file (exit 2 when it cannot be read).
+fn read_input(path: &Path) -> Result<String, CliError> {
+    std::fs::read_to_string(path).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))
+}

@@ -1,0 +1,89 @@
+//! `run`, `scenes`, `render` and `frame-diff`: one scene, one frame.
+
+use super::args::{RenderArgs, RunArgs};
+use super::{interrupt_flag, show_progress, CliError};
+use crate::report::render::{obstacle_meshes, render_png, FrameMesh};
+use crate::scene::{self, Overrides, EMBEDDED_SCENES};
+use crate::sim::{self, RunOptions, RunStatus, Simulation};
+use std::path::{Path, PathBuf};
+
+/// `adaptcloth run`: one scene to its duration, outputs in `--out`.
+pub fn run(args: RunArgs) -> Result<(), CliError> {
+    let overrides = Overrides {
+        set: args.set,
+        strategy: args.strategy,
+        integrator: args.integrator,
+        duration: args.duration,
+    };
+    let loaded = scene::resolve(args.scene.as_deref(), &overrides)?;
+    let mut simulation =
+        Simulation::new(&loaded).map_err(|e| CliError::Input(format!("{}: {e}", loaded.source)))?;
+    let out_dir = args.out.unwrap_or_else(|| {
+        let name = format!("{}-{}", loaded.scene.name, simulation.strategy_name());
+        PathBuf::from("out").join(name)
+    });
+    let opts = RunOptions {
+        out_dir: out_dir.clone(),
+        progress: show_progress(args.quiet),
+        interrupt: Some(interrupt_flag()),
+        source: loaded.source.clone(),
+        ..RunOptions::default()
+    };
+    eprintln!(
+        "adaptcloth: {} ({}), strategy {}, integrator {}, {} vertices, {} s -> {}",
+        loaded.scene.name,
+        loaded.source,
+        simulation.strategy_name(),
+        simulation.integrator_name(),
+        simulation.cloth.mesh.vertex_count(),
+        loaded.scene.time.duration,
+        out_dir.display()
+    );
+    let s = sim::run(&mut simulation, &opts)
+        .map_err(|e| CliError::Failed(format!("writing outputs to {}: {e}", out_dir.display())))?;
+    eprintln!(
+        "{:?}: {} steps, t = {:.4} s, {} frames, {} vertices (max {}), max penetration {:.2e} m, wall {:.2} s",
+        s.status, s.steps, s.sim_time, s.frames, s.final_vertices, s.max_vertices,
+        s.max_penetration, s.wall_time_s
+    );
+    match s.status {
+        RunStatus::Completed => Ok(()),
+        RunStatus::Interrupted => Err(CliError::Interrupted(s.message)),
+        RunStatus::Diverged | RunStatus::Failed => Err(CliError::Failed(s.message)),
+    }
+}
+
+/// `adaptcloth scenes`: the embedded scenes with their descriptions.
+pub fn scenes() -> Result<(), CliError> {
+    for (name, text) in EMBEDDED_SCENES {
+        let description = text
+            .lines()
+            .find_map(|l| l.strip_prefix("description = "))
+            .unwrap_or("")
+            .trim_matches('"');
+        println!("{name:12} {description}");
+    }
+    Ok(())
+}
+
+/// `adaptcloth render`: one frame (and the scene's obstacles) to a PNG.
+pub fn render(args: RenderArgs) -> Result<(), CliError> {
+    let input = |e: &dyn std::fmt::Display| CliError::Input(e.to_string());
+    let mesh = FrameMesh::read(&args.frame).map_err(|e| input(&e))?;
+    let obstacles = match &args.scene {
+        Some(s) => {
+            let loaded = scene::resolve(Some(s), &Overrides::default())?;
+            obstacle_meshes(&loaded.scene.obstacles, &loaded.base_dir).map_err(|e| input(&e))?
+        }
+        None => Vec::new(),
+    };
+    render_png(&mesh, &obstacles, args.width, args.height, &args.out).map_err(|e| input(&e))
+}
+
+/// `adaptcloth frame-diff`: RMS and largest distance between the vertices of two frames.
+pub fn frame_diff(a: &Path, b: &Path) -> Result<(), CliError> {
+    let (rms, max) =
+        crate::eval::frame_distance(a, b).map_err(|e| CliError::Input(e.to_string()))?;
+    println!("rms {rms:.6e} m, max {max:.6e} m");
+    Ok(())
+}

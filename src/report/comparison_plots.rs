@@ -1,0 +1,180 @@
+//! The plots of one comparison, written into its folder: speed against error, element counts,
+//! step and its limits, the tracked point, and `e(t)`.
+
+use super::plots::{self, Panel, Series, SpeedPoint};
+use super::ReportError;
+use crate::eval::metrics::pareto_front;
+use crate::io::read_numeric_csv;
+use crate::study::{Comparison, Row};
+use std::path::{Path, PathBuf};
+
+/// Series of one column of each run's `metrics.csv` over time.
+fn metric_series(out: &Path, c: &Comparison, column: &str) -> Vec<Series> {
+    c.rows
+        .iter()
+        .filter_map(|r| {
+            let (header, rows) =
+                read_numeric_csv(&out.join("runs").join(&r.label).join("metrics.csv")).ok()?;
+            let t = header.iter().position(|h| h == "t")?;
+            let k = header.iter().position(|h| h == column)?;
+            Some(Series {
+                label: r.label.clone(),
+                points: rows.iter().map(|row| (row[t], row[k])).collect(),
+                dashed: false,
+            })
+        })
+        .collect()
+}
+
+/// The plots of a comparison, written into `out`.
+pub fn write_plots(
+    out: &Path,
+    c: &Comparison,
+) -> Result<Vec<(String, PathBuf, PathBuf)>, ReportError> {
+    let m = &c.manifest;
+    let mut files = Vec::new();
+    let plot_err = |e: plots::PlotError| ReportError::Io {
+        path: e.path.clone(),
+        source: std::io::Error::other(e.message),
+    };
+    let mut push = |name: &str, f: Vec<PathBuf>| {
+        if let [svg, png] = &f[..] {
+            files.push((name.to_string(), svg.clone(), png.clone()));
+        }
+    };
+    let completed: Vec<&Row> = c.rows.iter().filter(|r| r.completed()).collect();
+    let points: Vec<SpeedPoint> = completed
+        .iter()
+        .map(|r| SpeedPoint {
+            label: r.label.clone(),
+            wall_s: r.wall_s,
+            error: r.e_rms,
+            is_static: r.strategy == "static",
+        })
+        .collect();
+    let pairs: Vec<(f64, f64)> = points.iter().map(|p| (p.wall_s, p.error)).collect();
+    let front = pareto_front(&pairs);
+    let f = plots::speed_error(
+        &out.join("speed_error"),
+        &format!(
+            "{}: wall time vs error (reference {}x{})",
+            m.scene, m.reference.resolution, m.reference.resolution
+        ),
+        "e_rms",
+        &points,
+        &front,
+        Some(m.reference.floor.e_rms),
+    )
+    .map_err(plot_err)?;
+    push("speed_error", f);
+
+    let elements = vec![
+        Panel {
+            y_label: "faces".into(),
+            log_y: false,
+            series: metric_series(out, c, "faces"),
+            hline: None,
+        },
+        Panel {
+            y_label: "vertices".into(),
+            log_y: false,
+            series: metric_series(out, c, "vertices"),
+            hline: None,
+        },
+    ];
+    let f = plots::time_series(
+        &out.join("elements"),
+        &format!("{}: element count", m.scene),
+        &elements,
+    )
+    .map_err(plot_err)?;
+    push("elements", f);
+
+    let step = vec![
+        Panel {
+            y_label: "dt (s)".into(),
+            log_y: true,
+            series: metric_series(out, c, "dt"),
+            hline: None,
+        },
+        Panel {
+            y_label: "min mass (kg)".into(),
+            log_y: true,
+            series: metric_series(out, c, "min_mass"),
+            hline: None,
+        },
+        Panel {
+            y_label: "max stiffness (N/m)".into(),
+            log_y: true,
+            series: metric_series(out, c, "max_stiffness"),
+            hline: None,
+        },
+    ];
+    let f = plots::time_series(
+        &out.join("step"),
+        &format!("{}: time step, minimum mass, maximum stiffness", m.scene),
+        &step,
+    )
+    .map_err(plot_err)?;
+    push("step", f);
+
+    let mut tracked = Vec::new();
+    for (axis, col) in ["x", "y", "z"].iter().enumerate() {
+        let mut series = metric_series(out, c, &format!("p0_{col}"));
+        if !m.reference.tracked.is_empty() {
+            series.push(Series {
+                label: format!("reference {0}x{0}", m.reference.resolution),
+                points: m
+                    .reference
+                    .tracked
+                    .iter()
+                    .map(|p| (p[0], p[axis + 1]))
+                    .collect(),
+                dashed: true,
+            });
+        }
+        tracked.push(Panel {
+            y_label: format!("P {col} (m)"),
+            log_y: false,
+            series,
+            hline: None,
+        });
+    }
+    let f = plots::time_series(
+        &out.join("tracked"),
+        &format!("{}: tracked point P", m.scene),
+        &tracked,
+    )
+    .map_err(plot_err)?;
+    push("tracked", f);
+
+    let error_series: Vec<Series> = c
+        .rows
+        .iter()
+        .filter_map(|r| {
+            let (_, rows) =
+                read_numeric_csv(&out.join("runs").join(&r.label).join("error.csv")).ok()?;
+            Some(Series {
+                label: r.label.clone(),
+                points: rows.iter().map(|row| (row[0], row[1])).collect(),
+                dashed: false,
+            })
+        })
+        .collect();
+    let f = plots::time_series(
+        &out.join("error"),
+        &format!("{}: e(t) against the reference", m.scene),
+        &[Panel {
+            y_label: "e(t) (m)".into(),
+            log_y: true,
+            series: error_series,
+            hline: Some((
+                format!("floor e_rms ({0}x{0})", m.reference.floor.resolution),
+                m.reference.floor.e_rms,
+            )),
+        }],
+    )
+    .map_err(plot_err)?;
+    push("error", f);
+    Ok(files)
+}

@@ -1,0 +1,157 @@
+//! Presenting studies: everything a person reads or looks at. Above `study` (which runs and
+//! tabulates) and below the command line.
+//!
+//! - [`write_report`] (this file): a comparison folder's `report.md`, `report.html`, plots and
+//!   snapshots. Every number comes from the comparison's rows and runs.
+//! - [`tables`], [`reading`]: the markdown tables and the computed reading (speed-up at equal
+//!   error, where the time goes).
+//! - [`comparison_plots`] over [`plots`] (plotters with the embedded DejaVu font).
+//! - [`results`]: `docs/results.md` over several scenes.
+//! - [`pictures`]: snapshots and the HTML report of a comparison, over [`render`] (the software
+//!   rasteriser) and [`html`] (the self-contained `report.html` with its 3D replay).
+
+pub mod comparison_plots;
+pub mod html;
+pub mod pictures;
+pub mod plots;
+pub mod reading;
+pub mod render;
+pub mod results;
+pub mod tables;
+
+pub use results::write_docs;
+
+use crate::study::{table::write_tables, Comparison, StudyError};
+use pictures::{RenderOutcome, Section};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use tables::rel;
+
+/// Why a report could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum ReportError {
+    /// Writing a file failed.
+    #[error("{path}: {source}")]
+    Io {
+        /// The file or folder.
+        path: String,
+        /// The error.
+        source: std::io::Error,
+    },
+    /// Writing the comparison's tables failed.
+    #[error(transparent)]
+    Study(#[from] StudyError),
+}
+
+/// Maps an I/O error on `path` to [`ReportError::Io`].
+pub(crate) fn io_err(path: &Path) -> impl FnOnce(std::io::Error) -> ReportError + '_ {
+    move |source| ReportError::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// The files a report wrote (relative to its folder), by kind.
+#[derive(Clone, Debug, Default)]
+pub struct ReportFiles {
+    /// Plots: `(name, svg, png)`.
+    pub plots: Vec<(String, PathBuf, PathBuf)>,
+    /// The snapshot grid.
+    pub snapshots: Option<RenderOutcome>,
+    /// The HTML report.
+    pub html: Option<RenderOutcome>,
+}
+
+/// Writes the tables, plots, snapshots, `report.md` and `report.html` of a comparison into `out`.
+pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportError> {
+    write_tables(out, c)?;
+    let plots = comparison_plots::write_plots(out, c)?;
+    let snapshots = pictures::snapshots(out, c);
+    let m = &c.manifest;
+    let mut md = String::new();
+    let _ = writeln!(md, "# Comparison: {}\n", m.scene);
+    if let Some(shard) = m.shard {
+        let _ = writeln!(
+            md,
+            "Shard {shard} of the sweep: only its runs are here; combine the shards with `adaptcloth merge`.\n"
+        );
+    }
+    let _ = writeln!(md, "{}\n", tables::settings(c));
+    let _ = writeln!(md, "## Runs\n\n{}", tables::table(c));
+    let _ = writeln!(md, "Table: [comparison.csv](comparison.csv); manifest: [comparison.json](comparison.json); each run's outputs in `runs/<label>/`.\n");
+    if !m.skipped.is_empty() {
+        let _ = writeln!(md, "Missing runs:\n");
+        for k in &m.skipped {
+            let _ = writeln!(md, "- `{}`: {}", k.label, k.reason);
+        }
+        let _ = writeln!(md);
+    }
+    let _ = writeln!(md, "## Reading\n\n{}", reading::reading(c));
+    let _ = writeln!(md, "## Where the time goes\n\n{}", tables::profile(c));
+    let _ = writeln!(md, "## Plots\n");
+    for (name, svg, png) in &plots {
+        let _ = writeln!(
+            md,
+            "- {name}: [svg]({}) [png]({})\n\n  ![{name}]({})\n",
+            rel(out, svg),
+            rel(out, png),
+            rel(out, svg)
+        );
+    }
+    let _ = writeln!(md, "## Snapshots and replay\n");
+    let _ = writeln!(md, "{}", outcome_line("snapshots", &snapshots, out));
+    let sections = vec![
+        Section {
+            title: format!("Comparison: {}", m.scene),
+            markdown: format!(
+                "{}\n\n{}\n\n{}\n\n## Where the time goes\n\n{}",
+                tables::settings(c),
+                tables::table(c),
+                reading::reading(c),
+                tables::profile(c)
+            ),
+            images: plots.iter().take(1).map(|p| p.1.clone()).collect(),
+        },
+        Section {
+            title: "Time series".into(),
+            markdown: String::new(),
+            images: plots.iter().skip(1).map(|p| p.1.clone()).collect(),
+        },
+        Section {
+            title: "Snapshots".into(),
+            markdown: String::new(),
+            images: match &snapshots {
+                RenderOutcome::Written(p) => vec![p.clone()],
+                _ => Vec::new(),
+            },
+        },
+    ];
+    let html = pictures::html(
+        out,
+        c,
+        &format!("adaptcloth comparison: {}", m.scene),
+        &sections,
+    );
+    let _ = writeln!(md, "{}", outcome_line("report.html", &html, out));
+    let path = out.join("report.md");
+    crate::io::write_atomic(&path, md.as_bytes()).map_err(io_err(&path))?;
+    Ok(ReportFiles {
+        plots,
+        snapshots: Some(snapshots),
+        html: Some(html),
+    })
+}
+
+fn outcome_line(what: &str, o: &RenderOutcome, out: &Path) -> String {
+    match o {
+        RenderOutcome::Written(p) => {
+            let r = rel(out, p);
+            if r.ends_with(".png") {
+                format!("- {what}: [{r}]({r})\n\n  ![{what}]({r})\n")
+            } else {
+                format!("- {what}: [{r}]({r})\n")
+            }
+        }
+        RenderOutcome::Failed(why) => format!("- {what}: **failed**: {why}\n"),
+    }
+}

@@ -1,0 +1,158 @@
+//! Run configurations of a study: a strategy on a starting grid with an integrator, at the scene's
+//! other parameters; parsed from `strategy[@resolution],...` and crossed with integrators.
+
+use super::StudyError;
+use crate::physics::integrator_named;
+use crate::scene::{LoadedScene, Scene, STRATEGIES};
+use serde::{Deserialize, Serialize};
+
+/// Static grids of the default comparison (vertices per side).
+pub const DEFAULT_STATIC_GRIDS: [usize; 4] = [5, 9, 17, 33];
+
+/// One configuration: a strategy on a starting grid with an integrator.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RunConfig {
+    /// Strategy name.
+    pub strategy: String,
+    /// Vertices per side of the starting grid.
+    pub resolution: usize,
+    /// Integrator name.
+    pub integrator: String,
+}
+
+impl RunConfig {
+    /// `strategy-resolution-integrator`, e.g. `static-17-rk4` (also the run's folder name).
+    pub fn label(&self) -> String {
+        format!("{}-{}-{}", self.strategy, self.resolution, self.integrator)
+    }
+
+    /// The scene of this configuration: `base` with its grid, strategy and integrator.
+    pub fn scene(&self, base: &LoadedScene) -> LoadedScene {
+        let mut l = base.clone();
+        l.scene.cloth.resolution = self.resolution;
+        l.scene.cloth.resolution_v = 0;
+        l.scene.adaptivity.strategy = self.strategy.clone();
+        l.scene.integrator.name = self.integrator.clone();
+        l
+    }
+}
+
+/// The default list: static on [`DEFAULT_STATIC_GRIDS`] and every adaptive strategy on the
+/// scene's grid.
+pub fn default_spec() -> String {
+    let statics = DEFAULT_STATIC_GRIDS.iter().map(|n| format!("static@{n}"));
+    let adaptive = STRATEGIES
+        .iter()
+        .filter(|s| **s != "static")
+        .map(|s| s.to_string());
+    statics.chain(adaptive).collect::<Vec<_>>().join(",")
+}
+
+/// Parses `strategy[@resolution],...` (resolution defaults to the scene's) crossed with the
+/// integrators (default: the scene's), configuration-major. Unknown strategies and integrators,
+/// resolutions below 2, duplicates and an empty list are errors.
+pub fn parse_configs(
+    spec: &str,
+    scene: &Scene,
+    integrators: &[String],
+) -> Result<Vec<RunConfig>, StudyError> {
+    let integrators: Vec<String> = if integrators.is_empty() {
+        vec![scene.integrator.name.clone()]
+    } else {
+        integrators.to_vec()
+    };
+    for i in &integrators {
+        integrator_named(i).map_err(|e| StudyError::Config(e.to_string()))?;
+    }
+    let mut out = Vec::new();
+    for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+        let (strategy, resolution) = match item.split_once('@') {
+            Some((s, r)) => {
+                let r: usize = r.trim().parse().map_err(|_| {
+                    StudyError::Config(format!(
+                        "configuration `{item}`: expected strategy@resolution with an integer resolution"
+                    ))
+                })?;
+                (s.trim(), r)
+            }
+            None => (item, scene.cloth.resolution),
+        };
+        if !STRATEGIES.contains(&strategy) {
+            return Err(StudyError::Config(format!(
+                "configuration `{item}`: unknown strategy `{strategy}`; valid strategies: {}",
+                STRATEGIES.join(", ")
+            )));
+        }
+        if resolution < 2 {
+            return Err(StudyError::Config(format!(
+                "configuration `{item}`: resolution must be at least 2"
+            )));
+        }
+        for i in &integrators {
+            let c = RunConfig {
+                strategy: strategy.to_string(),
+                resolution,
+                integrator: i.clone(),
+            };
+            if out.contains(&c) {
+                return Err(StudyError::Config(format!(
+                    "configuration {} listed twice",
+                    c.label()
+                )));
+            }
+            out.push(c);
+        }
+    }
+    if out.is_empty() {
+        return Err(StudyError::Config("no configuration to run".into()));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_embedded;
+
+    fn scene() -> Scene {
+        load_embedded("sphere", &[]).unwrap().unwrap().scene
+    }
+
+    #[test]
+    fn default_configurations() {
+        let c = parse_configs(&default_spec(), &scene(), &[]).unwrap();
+        let labels: Vec<String> = c.iter().map(RunConfig::label).collect();
+        assert_eq!(
+            labels,
+            [
+                "static-5-rk4",
+                "static-9-rk4",
+                "static-17-rk4",
+                "static-33-rk4",
+                "remesh-5-rk4",
+                "simnett-5-rk4",
+                "bisect48-5-rk4"
+            ]
+        );
+    }
+
+    #[test]
+    fn configuration_parsing() {
+        let ints = ["rk4".to_string(), "symplectic_euler".to_string()];
+        let c = parse_configs("static@3, remesh", &scene(), &ints).unwrap();
+        let labels: Vec<String> = c.iter().map(RunConfig::label).collect();
+        assert_eq!(
+            labels,
+            [
+                "static-3-rk4",
+                "static-3-symplectic_euler",
+                "remesh-5-rk4",
+                "remesh-5-symplectic_euler"
+            ]
+        );
+        for bad in ["magic", "static@x", "static@1", "static@5,static@5", ""] {
+            assert!(parse_configs(bad, &scene(), &[]).is_err(), "{bad}");
+        }
+        assert!(parse_configs("static", &scene(), &["leapfrog".into()]).is_err());
+    }
+}

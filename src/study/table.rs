@@ -1,0 +1,370 @@
+//! The comparison table: one [`Row`] per run with named columns declared once ([`COLUMNS`] and the
+//! struct come from the same list, so writing and reading cannot disagree), `comparison.csv`
+//! (columns read by name), and `comparison.json` (the [`Manifest`]: everything but the rows).
+
+use super::shard::Shard;
+use super::StudyError;
+use crate::eval::reference::Floor;
+use crate::scene::ObstacleSpec;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// How a column is written in `comparison.csv`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// As is (text and integers).
+    Plain,
+    /// Fixed point with this many decimals.
+    Fixed(usize),
+    /// Scientific notation with this many decimals.
+    Sci(usize),
+}
+
+/// A value of one cell.
+trait Cell: Sized {
+    fn write(&self, format: Format) -> String;
+    fn read(text: &str) -> Result<Self, String>;
+}
+
+impl Cell for String {
+    fn write(&self, _: Format) -> String {
+        self.clone()
+    }
+    fn read(text: &str) -> Result<Self, String> {
+        Ok(text.to_string())
+    }
+}
+
+impl Cell for f64 {
+    fn write(&self, format: Format) -> String {
+        match format {
+            Format::Plain => format!("{self}"),
+            Format::Fixed(d) => format!("{self:.d$}"),
+            Format::Sci(d) => format!("{self:.d$e}"),
+        }
+    }
+    fn read(text: &str) -> Result<Self, String> {
+        text.parse()
+            .map_err(|_| format!("`{text}` is not a number"))
+    }
+}
+
+macro_rules! integer_cell {
+    ($($t:ty),*) => {$(
+        impl Cell for $t {
+            fn write(&self, _: Format) -> String {
+                self.to_string()
+            }
+            fn read(text: &str) -> Result<Self, String> {
+                text.parse().map_err(|_| format!("`{text}` is not a whole number"))
+            }
+        }
+    )*};
+}
+integer_cell!(u64, usize);
+
+/// Declares [`Row`] and [`COLUMNS`] from one list: `field: type => format`, in column order.
+macro_rules! comparison_row {
+    ($($(#[doc = $doc:literal])* $field:ident: $ty:ty => $format:expr,)*) => {
+        /// One row of `comparison.csv`: one run of a study.
+        #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+        pub struct Row {
+            $($(#[doc = $doc])* pub $field: $ty,)*
+        }
+
+        /// The columns of `comparison.csv` in order: name and how it is written.
+        pub const COLUMNS: &[(&str, Format)] = &[$((stringify!($field), $format),)*];
+
+        impl Row {
+            /// The row's cells, in [`COLUMNS`] order.
+            fn cells(&self) -> Vec<String> {
+                vec![$(Cell::write(&self.$field, $format),)*]
+            }
+
+            /// A row from its cells looked up by column name.
+            fn from_cells<'a>(
+                cell: impl Fn(&str) -> Result<&'a str, String>,
+            ) -> Result<Row, String> {
+                Ok(Row {
+                    $($field: Cell::read(cell(stringify!($field))?)
+                        .map_err(|e| format!("{}: {e}", stringify!($field)))?,)*
+                })
+            }
+        }
+    };
+}
+
+comparison_row! {
+    /// Scene name.
+    scene: String => Format::Plain,
+    /// Strategy.
+    strategy: String => Format::Plain,
+    /// Integrator.
+    integrator: String => Format::Plain,
+    /// Configuration label (also the run's folder name).
+    label: String => Format::Plain,
+    /// Wall time of the run (s), recording included.
+    wall_s: f64 => Format::Fixed(4),
+    /// Steps taken.
+    steps: u64 => Format::Plain,
+    /// Time-weighted mean live vertex count.
+    mean_vertices: f64 => Format::Fixed(2),
+    /// Largest live vertex count.
+    max_vertices: usize => Format::Plain,
+    /// RMS over frames of `e(t)` (m).
+    e_rms: f64 => Format::Sci(6),
+    /// `e` at the last frame (m).
+    e_final: f64 => Format::Sci(6),
+    /// Tracked-point trajectory error (m).
+    tracked_err: f64 => Format::Sci(6),
+    /// Hausdorff distance between the final surfaces (m).
+    hausdorff: f64 => Format::Sci(6),
+    /// Largest depth of a vertex inside an obstacle (m).
+    max_penetration: f64 => Format::Sci(6),
+    /// `completed`, `diverged`, `interrupted`, `failed`, or `error` (could not start).
+    status: String => Format::Plain,
+    /// Starting grid (vertices per side).
+    resolution: usize => Format::Plain,
+    /// Simulated time reached (s).
+    sim_time: f64 => Format::Fixed(6),
+    /// Adaptation operations.
+    adapt_events: u64 => Format::Plain,
+    /// Largest momentum change of one adaptation event (kg m/s).
+    max_momentum_jump: f64 => Format::Sci(6),
+    /// Largest absolute kinetic-energy change of one step's adaptation (J).
+    max_energy_jump: f64 => Format::Sci(6),
+    /// Sum of adaptation kinetic-energy changes (J).
+    total_energy_jump: f64 => Format::Sci(6),
+    /// Wall time integrating (s).
+    integrate_s: f64 => Format::Fixed(4),
+    /// Wall time in collisions (s).
+    collide_s: f64 => Format::Fixed(4),
+    /// Wall time adapting (s).
+    adapt_s: f64 => Format::Fixed(4),
+    /// Wall time rebuilding elements (s).
+    rebuild_s: f64 => Format::Fixed(4),
+    /// Wall time recording outputs (s).
+    record_s: f64 => Format::Fixed(4),
+}
+
+impl Row {
+    /// True when the run completed (only those enter the Pareto front and the speed-ups).
+    pub fn completed(&self) -> bool {
+        self.status == "completed"
+    }
+}
+
+/// The column names of `comparison.csv`, in order.
+pub fn column_names() -> impl Iterator<Item = &'static str> {
+    COLUMNS.iter().map(|(name, _)| *name)
+}
+
+/// Writes `comparison.csv`.
+pub fn write_csv(path: &Path, rows: &[Row]) -> Result<(), StudyError> {
+    let mut s = column_names().collect::<Vec<_>>().join(",");
+    s.push('\n');
+    for r in rows {
+        s.push_str(&r.cells().join(","));
+        s.push('\n');
+    }
+    crate::io::write_atomic(path, s.as_bytes()).map_err(super::io_err(path))
+}
+
+/// Reads `comparison.csv`; columns are found by name, so their order in the file is free.
+pub fn read_csv(path: &Path) -> Result<Vec<Row>, StudyError> {
+    let text = std::fs::read_to_string(path).map_err(super::io_err(path))?;
+    let bad = |why: String| StudyError::Merge(format!("{}: {why}", path.display()));
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines
+        .next()
+        .ok_or_else(|| bad("empty".into()))?
+        .split(',')
+        .collect();
+    for name in column_names() {
+        if !header.contains(&name) {
+            return Err(bad(format!("no column {name}")));
+        }
+    }
+    let mut rows = Vec::new();
+    for (n, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
+        let cells: Vec<&str> = line.split(',').collect();
+        let cell = |name: &str| {
+            header
+                .iter()
+                .position(|h| *h == name)
+                .and_then(|k| cells.get(k).copied())
+                .ok_or_else(|| "short row".to_string())
+        };
+        rows.push(Row::from_cells(cell).map_err(|e| bad(format!("line {}: {e}", n + 2)))?);
+    }
+    Ok(rows)
+}
+
+/// A configuration left out of a comparison, and why (e.g. no shard ran it).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Skipped {
+    /// Its label.
+    pub label: String,
+    /// Why.
+    pub reason: String,
+}
+
+/// What the comparison measured against.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ReferenceInfo {
+    /// Reference grid.
+    pub resolution: usize,
+    /// Its step factor.
+    pub beta: f64,
+    /// Its integrator.
+    pub integrator: String,
+    /// Its step until the first contact (s; 0 = dynamic from the start; `None`: the scene's).
+    #[serde(default)]
+    pub dt_initial: Option<f64>,
+    /// Cache key.
+    pub key: String,
+    /// Its steps.
+    pub steps: u64,
+    /// Its wall time (s).
+    pub wall_s: f64,
+    /// Sample grid (per side).
+    pub samples: usize,
+    /// The floor.
+    pub floor: Floor,
+    /// The cache entry folder.
+    pub dir: PathBuf,
+    /// The reference's first tracked point: `[t, x, y, z]` per frame (s, m).
+    pub tracked: Vec<[f64; 4]>,
+}
+
+/// `comparison.json`: everything about a comparison but the rows.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    /// Scene name.
+    pub scene: String,
+    /// Scene file or `<embedded NAME>`.
+    pub source: String,
+    /// Folder of the scene's relative files.
+    pub base_dir: PathBuf,
+    /// Simulated duration (s).
+    pub duration: f64,
+    /// The scene's step factor (runs use it).
+    pub beta: f64,
+    /// Every configuration of the sweep (all shards), by label, in order.
+    pub configs: Vec<String>,
+    /// Configurations left out (by a merge: no shard ran them).
+    pub skipped: Vec<Skipped>,
+    /// The shard this folder holds (`None`: all, or merged).
+    pub shard: Option<Shard>,
+    /// Parallel jobs used.
+    pub jobs: usize,
+    /// The reference.
+    pub reference: ReferenceInfo,
+    /// The scene's obstacles (for rendering).
+    pub obstacles: Vec<ObstacleSpec>,
+}
+
+/// A comparison: its manifest and its rows (in configuration order).
+#[derive(Clone, Debug)]
+pub struct Comparison {
+    /// The manifest.
+    pub manifest: Manifest,
+    /// One row per run.
+    pub rows: Vec<Row>,
+}
+
+/// Writes `comparison.csv` and `comparison.json` into `out`.
+pub fn write_tables(out: &Path, c: &Comparison) -> Result<(), StudyError> {
+    write_csv(&out.join("comparison.csv"), &c.rows)?;
+    let path = out.join("comparison.json");
+    let json = serde_json::to_string_pretty(&c.manifest)
+        .map_err(|e| super::io_err(&path)(std::io::Error::other(e)))?;
+    crate::io::write_atomic(&path, json.as_bytes()).map_err(super::io_err(&path))
+}
+
+/// Reads a comparison folder (`comparison.json` and `comparison.csv`).
+pub fn read_comparison(dir: &Path) -> Result<Comparison, StudyError> {
+    let path = dir.join("comparison.json");
+    let text = std::fs::read_to_string(&path).map_err(super::io_err(&path))?;
+    let manifest: Manifest = serde_json::from_str(&text)
+        .map_err(|e| StudyError::Merge(format!("{}: {e}", path.display())))?;
+    let rows = read_csv(&dir.join("comparison.csv"))?;
+    Ok(Comparison { manifest, rows })
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// A completed row with every column set.
+    pub(crate) fn row(label: &str) -> Row {
+        Row {
+            scene: "sphere".into(),
+            strategy: "static".into(),
+            integrator: "rk4".into(),
+            label: label.into(),
+            wall_s: 1.25,
+            steps: 100,
+            mean_vertices: 25.0,
+            max_vertices: 25,
+            e_rms: 0.0125,
+            e_final: 0.02,
+            tracked_err: f64::NAN,
+            hausdorff: 0.03,
+            max_penetration: 0.0,
+            status: "completed".into(),
+            resolution: 5,
+            sim_time: 0.6,
+            adapt_events: 0,
+            max_momentum_jump: 0.0,
+            max_energy_jump: 0.0,
+            total_energy_jump: 0.0,
+            integrate_s: 1.0,
+            collide_s: 0.1,
+            adapt_s: 0.0,
+            rebuild_s: 0.0,
+            record_s: 0.15,
+        }
+    }
+
+    #[test]
+    fn csv_round_trip_by_column_name() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("c.csv");
+        let (a, b) = (row("static-5-rk4"), row("static-9-rk4"));
+        write_csv(&p, &[a.clone(), b]).unwrap();
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert_eq!(
+            text.lines().next().unwrap(),
+            column_names().collect::<Vec<_>>().join(",")
+        );
+        let back = read_csv(&p).unwrap();
+        assert_eq!(back.len(), 2);
+        assert_eq!(back[0].label, a.label);
+        assert_eq!(back[0].e_rms, a.e_rms);
+        assert!(back[0].tracked_err.is_nan());
+        assert_eq!(back[0].steps, 100);
+        // Columns are read by name: reversing their order reads the same rows.
+        let reversed: String = text
+            .lines()
+            .map(|l| l.split(',').rev().collect::<Vec<_>>().join(",") + "\n")
+            .collect();
+        std::fs::write(&p, reversed).unwrap();
+        assert_eq!(read_csv(&p).unwrap()[1].label, "static-9-rk4");
+    }
+
+    #[test]
+    fn bad_cells_name_the_line_and_the_column() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("c.csv");
+        write_csv(&p, &[row("a")]).unwrap();
+        let text = std::fs::read_to_string(&p)
+            .unwrap()
+            .replace(",100,", ",many,");
+        std::fs::write(&p, text).unwrap();
+        let e = read_csv(&p).unwrap_err().to_string();
+        assert!(e.contains("line 2: steps: `many`"), "{e}");
+        std::fs::write(&p, "scene,label\nx,y\n").unwrap();
+        assert!(read_csv(&p).unwrap_err().to_string().contains("no column"));
+    }
+}
