@@ -130,7 +130,7 @@ fn bunny_obstacle_is_scaled_translated_and_outward() {
     })];
     assert!(matches!(
         obstacle_meshes(&missing, &base),
-        Err(RenderError::Io { .. })
+        Err(RenderError::Obj(crate::io::ObjError::Io { .. }))
     ));
     let bad = [spec(ObstacleShape::Sphere {
         center: [0.0; 3],
