@@ -124,14 +124,26 @@ pub fn hanging(
     duration: Real,
     beta: Real,
 ) -> Simulation {
-    let mut loaded = embedded("hanging", integrator, strategy);
+    let mut loaded = sized("hanging", integrator, strategy, resolution, duration);
     let s = &mut loaded.scene;
     s.material.young = e;
-    s.cloth.resolution = resolution;
-    s.time.duration = duration;
     s.time.mode = TimeMode::Dynamic;
     s.time.beta = beta;
     Simulation::new(&loaded).expect("hanging builds")
+}
+
+/// An embedded scene at `resolution` (vertices per side) for `duration` (s).
+fn sized(
+    name: &str,
+    integrator: &str,
+    strategy: &str,
+    resolution: usize,
+    duration: Real,
+) -> LoadedScene {
+    let mut loaded = embedded(name, integrator, strategy);
+    loaded.scene.cloth.resolution = resolution;
+    loaded.scene.time.duration = duration;
+    loaded
 }
 
 /// True when `o` meets the bisection's stability criterion.
@@ -311,10 +323,9 @@ fn energy_words(o: &Outcome) -> String {
 
 /// Stiff material: `hanging` at E = 1e9.
 pub fn case_stiff(strategy: &str, integrator: &str, beta: Real, sizes: &CaseSizes) -> CaseResult {
-    let mut loaded = embedded("hanging", integrator, strategy);
+    let n = sizes.resolution;
+    let mut loaded = sized("hanging", integrator, strategy, n, sizes.duration.min(0.2));
     loaded.scene.material.young = 1e9;
-    loaded.scene.cloth.resolution = sizes.resolution;
-    loaded.scene.time.duration = sizes.duration.min(0.2);
     // Spring damping (kd = alpha k) bounds the explicit step by about m/kd, which falls faster
     // than the unit with stiffness and resolution: rk4 runs at beta / 10 = 0.002 (the bisection
     // finds 0.016 on 5x5 at E = 1e9 and 0.004 on 17x17).
@@ -337,9 +348,8 @@ pub fn case_beyond_limit(
     factor: Real,
     sizes: &CaseSizes,
 ) -> CaseResult {
-    let mut loaded = embedded("hanging", integrator, strategy);
-    loaded.scene.cloth.resolution = sizes.resolution;
-    loaded.scene.time.duration = sizes.duration;
+    let n = sizes.resolution;
+    let mut loaded = sized("hanging", integrator, strategy, n, sizes.duration);
     let unit = Simulation::new(&loaded)
         .expect("builds")
         .cloth
@@ -527,9 +537,8 @@ pub fn case_long_run(
     beta: Real,
     sizes: &CaseSizes,
 ) -> CaseResult {
-    let mut loaded = embedded("hanging", integrator, strategy);
-    loaded.scene.cloth.resolution = sizes.resolution;
-    loaded.scene.time.duration = sizes.long_duration;
+    let n = sizes.resolution;
+    let mut loaded = sized("hanging", integrator, strategy, n, sizes.long_duration);
     set_step(&mut loaded, beta);
     let (o, _) = run(Simulation::new(&loaded).expect("builds"), 0.1, false);
     CaseResult {
