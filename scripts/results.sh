@@ -1,30 +1,22 @@
 #!/usr/bin/env bash
-# Regenerates docs/results.md and docs/results/<scene>/*.svg: compares every built strategy with
-# the static mesh on the three source scenes (sphere, round_table, bunny) against a cached
-# reference. Strategies that are not built are skipped and listed; rerun when they land.
+# Regenerates docs/results.md and docs/results/<scene>/*.svg: every strategy against the static
+# mesh on the three source scenes (sphere, round_table, bunny), each against its cached reference.
 #
 # Settings (override with the environment). The defaults are `adaptcloth compare`'s own: reference
 # 65x65, floor 33x33, static 5/9/17/33 and the three adaptive strategies. They take about 1.5 hours
 # on a 2-core machine (scripts/results-notes.md lists the costs); a quicker pass is
 # REF=33 FLOOR=17 RUNS=static@5,static@9,static@17,remesh,simnett,bisect48 (about 15 minutes).
-#   REF=65 FLOOR=33 RUNS=static@5,static@9,static@17,static@33,remesh,simnett,bisect48 JOBS=2
-#   OUT=out/results CACHE=out/reference-cache
-# To spread the sweep over machines, run `adaptcloth compare SCENE --shard k/n ...` for each k
-# and combine the folders with `adaptcloth merge`, then `adaptcloth report` as at the end below.
+#   REF=65 FLOOR=33 RUNS=(compare's default list) JOBS=2 OUT=out/results CACHE=out/reference-cache
+# To spread the sweep over machines, run `adaptcloth compare SCENE --shard k/n ...` for each k,
+# combine the folders with `adaptcloth merge`, then `adaptcloth report ... --write-docs docs`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 REF=${REF:-65}
 FLOOR=${FLOOR:-33}
-RUNS=${RUNS:-static@5,static@9,static@17,static@33,remesh,simnett,bisect48}
 JOBS=${JOBS:-2}
 OUT=${OUT:-out/results}
 CACHE=${CACHE:-out/reference-cache}
 cargo build --release --quiet
-BIN=target/release/adaptcloth
-for scene in sphere round_table bunny; do
-  "$BIN" compare "$scene" --runs "$RUNS" --ref-resolution "$REF" --floor-resolution "$FLOOR" \
-    --jobs "$JOBS" --cache "$CACHE" --out "$OUT/$scene" --quiet
-done
-"$BIN" report "$OUT/sphere" "$OUT/round_table" "$OUT/bunny" --write-docs docs \
-  --docs-notes scripts/results-notes.md \
-  --docs-command "scripts/results.sh (REF=$REF FLOOR=$FLOOR RUNS=$RUNS JOBS=$JOBS)"
+target/release/adaptcloth compare --all-source-scenes ${RUNS:+--runs "$RUNS"} \
+  --ref-resolution "$REF" --floor-resolution "$FLOOR" --jobs "$JOBS" --cache "$CACHE" \
+  --out "$OUT" --quiet --write-docs docs --docs-notes scripts/results-notes.md

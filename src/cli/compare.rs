@@ -8,9 +8,6 @@ use crate::study::{self, CompareOptions, Comparison, RunConfig, Shard};
 use std::path::PathBuf;
 use std::sync::atomic::Ordering;
 
-/// The three scenes of the source thesis, in `--all-source-scenes` order.
-pub const SOURCE_SCENES: [&str; 3] = ["sphere", "round_table", "bunny"];
-
 fn overrides(set: &[String], duration: Option<f64>) -> Overrides {
     Overrides {
         set: set.to_vec(),
@@ -92,7 +89,7 @@ struct Plan {
 fn plan(args: &CompareArgs) -> Result<Vec<Plan>, CliError> {
     let mut names = args.scenes.clone();
     if args.all_source_scenes {
-        names.extend(SOURCE_SCENES.map(String::from));
+        names.extend(scene::SOURCE_SCENES.map(String::from));
     }
     if names.is_empty() {
         names.push(scene::DEFAULT_SCENE.into());

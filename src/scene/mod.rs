@@ -12,6 +12,9 @@ pub use spec::*;
 use crate::math::Real;
 use std::path::{Path, PathBuf};
 
+/// The three scenes of the source thesis (its Tests I-III), in the order studies list them.
+pub const SOURCE_SCENES: [&str; 3] = ["sphere", "round_table", "bunny"];
+
 /// The embedded scene run when no scene is named: the source's sphere test (Test III).
 pub const DEFAULT_SCENE: &str = "sphere";
 
