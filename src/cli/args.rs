@@ -29,6 +29,9 @@ pub enum Command {
     /// Run a list of configurations of a scene against the reference; write the comparison
     /// table, plots and reports.
     Compare(CompareArgs),
+    /// Run a study file (scenes, reference, runs and sweeps in TOML; see docs/studies.md): one
+    /// comparison and report per scene.
+    Study(StudyArgs),
     /// Combine the folders of `compare --shard i/n` runs into one comparison and report.
     Merge(MergeArgs),
     /// Rewrite the plots and reports of existing comparison folders (no run), optionally
@@ -71,12 +74,9 @@ pub struct ReportArgs {
     /// Comparison folders (written by `compare` or `merge`).
     #[arg(required = true)]
     pub dirs: Vec<PathBuf>,
-    /// Also write DIR/results.md (and its plots under DIR/results/) over these comparisons.
-    #[arg(long, value_name = "DIR")]
-    pub write_docs: Option<PathBuf>,
-    /// Extra markdown file included in results.md after the introduction (settings, costs).
-    #[arg(long, value_name = "FILE")]
-    pub docs_notes: Option<PathBuf>,
+    /// results.md over these comparisons.
+    #[command(flatten)]
+    pub docs: DocsArgs,
     /// The command to name in results.md as the one that regenerates it.
     #[arg(long, default_value = "scripts/results.sh")]
     pub docs_command: String,
@@ -152,12 +152,9 @@ pub struct CompareArgs {
     /// The reference's options.
     #[command(flatten)]
     pub reference: RefOpts,
-    /// Parallel runs.
-    #[arg(long, default_value_t = 1)]
-    pub jobs: usize,
-    /// Run only slice i of n (1-based) of the configurations; combine with `adaptcloth merge`.
-    #[arg(long)]
-    pub shard: Option<String>,
+    /// How the runs are executed.
+    #[command(flatten)]
+    pub execution: ExecutionArgs,
     /// Output folder (one scene), or parent folder (several: one subfolder per scene).
     /// Default: out/compare-<scene>, or out/compare/<scene>.
     #[arg(long)]
@@ -168,15 +165,57 @@ pub struct CompareArgs {
     /// Override any scene key for every run and the reference: --set section.key=value.
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
-    /// Also write DIR/results.md (and its plots under DIR/results/) over the compared scenes.
+    /// results.md over the compared scenes.
+    #[command(flatten)]
+    pub docs: DocsArgs,
+}
+
+/// How the runs of a study are executed (`compare`, `study`).
+#[derive(clap::Args)]
+pub struct ExecutionArgs {
+    /// Parallel runs.
+    #[arg(long, default_value_t = 1)]
+    pub jobs: usize,
+    /// Run only slice i of n (1-based) of the configurations; combine with `adaptcloth merge`.
+    #[arg(long)]
+    pub shard: Option<String>,
+    /// No progress bars.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `--write-docs` and `--docs-notes`.
+#[derive(clap::Args)]
+pub struct DocsArgs {
+    /// Also write DIR/results.md (and its plots under DIR/results/) over the comparisons.
     #[arg(long, value_name = "DIR")]
     pub write_docs: Option<PathBuf>,
     /// Extra markdown file included in results.md after the introduction (settings, costs).
     #[arg(long, value_name = "FILE")]
     pub docs_notes: Option<PathBuf>,
-    /// No progress bars.
+}
+
+/// `adaptcloth study`.
+#[derive(clap::Args)]
+pub struct StudyArgs {
+    /// The study file (TOML; format in docs/studies.md).
+    pub file: PathBuf,
+    /// How the runs are executed.
+    #[command(flatten)]
+    pub execution: ExecutionArgs,
+    /// Output folder; each scene's comparison goes to a subfolder named after the scene.
+    /// Default: out/study-<name>.
     #[arg(long)]
-    pub quiet: bool,
+    pub out: Option<PathBuf>,
+    /// Reference cache folder.
+    #[arg(long, default_value = "out/reference-cache")]
+    pub cache: PathBuf,
+    /// Recompute the references even when they are cached.
+    #[arg(long)]
+    pub force_reference: bool,
+    /// results.md over the study's scenes.
+    #[command(flatten)]
+    pub docs: DocsArgs,
 }
 
 /// `adaptcloth merge`.

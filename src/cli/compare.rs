@@ -1,11 +1,13 @@
 //! `reference`, `compare`, `merge` and `report`: studies of speed against error.
 
-use super::args::{CompareArgs, MergeArgs, RefOpts, ReferenceArgs, ReportArgs};
+use super::args::{
+    CompareArgs, DocsArgs, ExecutionArgs, MergeArgs, RefOpts, ReferenceArgs, ReportArgs, StudyArgs,
+};
 use super::{interrupt_flag, read_input, show_progress, CliError};
 use crate::eval::reference::{self, ReferenceSettings};
-use crate::scene::{self, LoadedScene, Overrides};
-use crate::study::{self, CompareOptions, Comparison, RunConfig, Shard};
-use std::path::PathBuf;
+use crate::scene::{self, Overrides};
+use crate::study::{self, CompareOptions, Comparison, ScenePlan, Shard, Study};
+use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
 fn overrides(set: &[String], duration: Option<f64>) -> Overrides {
@@ -78,15 +80,8 @@ pub fn reference(args: ReferenceArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// One scene of `compare`: the scene, its configurations, its output folder.
-struct Plan {
-    loaded: LoadedScene,
-    configs: Vec<RunConfig>,
-    out: PathBuf,
-}
-
-/// Loads and checks every scene and configuration list before anything runs.
-fn plan(args: &CompareArgs) -> Result<Vec<Plan>, CliError> {
+/// The scene names of `compare`: the listed ones, the source scenes, or the default scene.
+fn scene_names(args: &CompareArgs) -> Vec<String> {
     let mut names = args.scenes.clone();
     if args.all_source_scenes {
         names.extend(scene::SOURCE_SCENES.map(String::from));
@@ -94,58 +89,113 @@ fn plan(args: &CompareArgs) -> Result<Vec<Plan>, CliError> {
     if names.is_empty() {
         names.push(scene::DEFAULT_SCENE.into());
     }
-    let spec = args.runs.clone().unwrap_or_else(study::default_spec);
-    let mut plans = Vec::new();
-    for name in &names {
-        let loaded = scene::resolve(Some(name), &overrides(&args.set, args.duration))?;
-        let configs = study::parse_configs(&spec, &loaded.scene, &args.integrators)?;
-        let scene_name = &loaded.scene.name;
-        let out = match (&args.out, names.len()) {
-            (Some(o), 1) => o.clone(),
-            (Some(o), _) => o.join(scene_name),
-            (None, 1) => PathBuf::from("out").join(format!("compare-{scene_name}")),
-            (None, _) => PathBuf::from("out").join("compare").join(scene_name),
-        };
-        plans.push(Plan {
-            loaded,
-            configs,
-            out,
-        });
-    }
-    Ok(plans)
+    names
 }
 
-/// `adaptcloth compare`: every configuration of every scene against its reference, reports.
+/// `adaptcloth compare`: the study the options describe, run like a study file.
 pub fn compare(args: CompareArgs) -> Result<(), CliError> {
-    let settings = reference_settings(&args.reference)?;
-    let shard = args.shard.as_deref().map(str::parse::<Shard>).transpose()?;
-    let notes = args.docs_notes.as_deref().map(read_input).transpose()?;
+    let spec = args.runs.clone().unwrap_or_else(study::default_spec);
+    let definition = Study {
+        name: "compare".into(),
+        description: String::new(),
+        source: "command line".into(),
+        scenes: scene_names(&args),
+        set: args.set.clone(),
+        duration: args.duration,
+        reference: reference_settings(&args.reference)?,
+        runs: study::parse_runs(&spec, &args.integrators)?,
+    };
+    let notes = read_notes(&args.docs)?;
+    let n = definition.scenes.len();
+    let out = |name: &str| match (&args.out, n) {
+        (Some(o), 1) => o.clone(),
+        (Some(o), _) => o.join(name),
+        (None, 1) => PathBuf::from("out").join(format!("compare-{name}")),
+        (None, _) => PathBuf::from("out").join("compare").join(name),
+    };
+    let plans = study::plan(&definition, out)?;
+    let execution = Execution::new(
+        &args.execution,
+        &args.reference.cache,
+        args.reference.force_reference,
+    )?;
+    let done = run_plans(&definition, plans, &execution)?;
+    let command = format!(
+        "adaptcloth {}",
+        std::env::args().skip(1).collect::<Vec<_>>().join(" ")
+    );
+    write_docs(args.docs.write_docs, &done, &command, notes)
+}
+
+/// `adaptcloth study FILE.toml`: a study file's runs on each of its scenes, one report per scene.
+pub fn study(args: StudyArgs) -> Result<(), CliError> {
+    let definition = study::load_study(&args.file)?;
+    let notes = read_notes(&args.docs)?;
+    let root = args
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from("out").join(format!("study-{}", definition.name)));
+    let plans = study::plan(&definition, |name| root.join(name))?;
+    let execution = Execution::new(&args.execution, &args.cache, args.force_reference)?;
+    let done = run_plans(&definition, plans, &execution)?;
+    let command = format!("adaptcloth study {}", args.file.display());
+    write_docs(args.docs.write_docs, &done, &command, notes)
+}
+
+/// How the runs of a study are executed (shared by `compare` and `study`).
+struct Execution {
+    jobs: usize,
+    shard: Option<Shard>,
+    cache: PathBuf,
+    force_reference: bool,
+    progress: bool,
+}
+
+impl Execution {
+    fn new(o: &ExecutionArgs, cache: &Path, force_reference: bool) -> Result<Execution, CliError> {
+        Ok(Execution {
+            jobs: o.jobs.max(1),
+            shard: o.shard.as_deref().map(str::parse::<Shard>).transpose()?,
+            cache: cache.to_path_buf(),
+            force_reference,
+            progress: show_progress(o.quiet),
+        })
+    }
+}
+
+/// Runs every scene's comparison and writes its report; stops after the scene during which
+/// Ctrl-C was pressed.
+fn run_plans(
+    definition: &Study,
+    plans: Vec<ScenePlan>,
+    e: &Execution,
+) -> Result<Vec<(PathBuf, Comparison)>, CliError> {
     let interrupt = interrupt_flag();
     let mut done = Vec::new();
-    for Plan {
+    for ScenePlan {
         loaded,
         configs,
         out,
-    } in plan(&args)?
+    } in plans
     {
         let clock = std::time::Instant::now();
-        let shard_text = shard.map(|s| format!(", shard {s}")).unwrap_or_default();
+        let shard_text = e.shard.map(|s| format!(", shard {s}")).unwrap_or_default();
+        let (scene, count) = (&loaded.scene.name, configs.len());
         eprintln!(
-            "adaptcloth compare: {} ({}), {} configuration(s){shard_text} -> {}",
-            loaded.scene.name,
+            "adaptcloth {}: {scene} ({}), {count} configuration(s){shard_text} -> {}",
+            definition.name,
             loaded.source,
-            configs.len(),
             out.display()
         );
         let opts = CompareOptions {
             configs,
-            jobs: args.jobs.max(1),
-            shard,
+            jobs: e.jobs,
+            shard: e.shard,
             out_dir: out.clone(),
-            reference: settings.clone(),
-            cache_dir: args.reference.cache.clone(),
-            force_reference: args.reference.force_reference,
-            progress: show_progress(args.quiet),
+            reference: definition.reference.clone(),
+            cache_dir: e.cache.clone(),
+            force_reference: e.force_reference,
+            progress: e.progress,
             interrupt: Some(interrupt.clone()),
         };
         let comparison = study::compare(&loaded, &opts)?;
@@ -153,8 +203,7 @@ pub fn compare(args: CompareArgs) -> Result<(), CliError> {
         let (runs, secs) = (comparison.rows.len(), clock.elapsed().as_secs_f64());
         let report = out.join("report.md");
         eprintln!(
-            "{}: {runs} run(s) in {secs:.1} s; report: {}",
-            loaded.scene.name,
+            "{scene}: {runs} run(s) in {secs:.1} s; report: {}",
             report.display()
         );
         if interrupt.load(Ordering::SeqCst) {
@@ -162,22 +211,27 @@ pub fn compare(args: CompareArgs) -> Result<(), CliError> {
         }
         done.push((out, comparison));
     }
-    let command = format!(
-        "adaptcloth {}",
-        std::env::args().skip(1).collect::<Vec<_>>().join(" ")
-    );
-    write_docs(args.write_docs, &done, &command, notes)
+    Ok(done)
 }
 
-/// `--write-docs DIR`: `DIR/results.md` over the comparisons.
+/// The `--docs-notes` file's text, read before anything runs.
+fn read_notes(docs: &DocsArgs) -> Result<String, CliError> {
+    Ok(docs
+        .docs_notes
+        .as_deref()
+        .map(read_input)
+        .transpose()?
+        .unwrap_or_default())
+}
+
+/// `--write-docs DIR`: `DIR/results.md` over the comparisons, with the notes.
 fn write_docs(
     dir: Option<PathBuf>,
     done: &[(PathBuf, Comparison)],
     command: &str,
-    notes: Option<String>,
+    notes: String,
 ) -> Result<(), CliError> {
     if let Some(dir) = dir {
-        let notes = notes.unwrap_or_default();
         let path = crate::report::write_docs(&dir, done, command, &notes)?;
         eprintln!("wrote {}", path.display());
     }
@@ -199,7 +253,7 @@ pub fn merge(args: MergeArgs) -> Result<(), CliError> {
 
 /// `adaptcloth report`: rewrite the plots and reports of comparison folders, and results.md.
 pub fn report(args: ReportArgs) -> Result<(), CliError> {
-    let notes = args.docs_notes.as_deref().map(read_input).transpose()?;
+    let notes = read_notes(&args.docs)?;
     let mut done = Vec::new();
     for dir in &args.dirs {
         let comparison = study::read_comparison(dir)?;
@@ -207,5 +261,5 @@ pub fn report(args: ReportArgs) -> Result<(), CliError> {
         eprintln!("{}", dir.join("report.md").display());
         done.push((dir.clone(), comparison));
     }
-    write_docs(args.write_docs, &done, &args.docs_command, notes)
+    write_docs(args.docs.write_docs, &done, &args.docs_command, notes)
 }

@@ -55,7 +55,9 @@ impl From<SceneError> for CliError {
 impl From<StudyError> for CliError {
     fn from(e: StudyError) -> Self {
         match e {
-            StudyError::Config(_) | StudyError::Merge(_) => CliError::Input(e.to_string()),
+            StudyError::Config(_) | StudyError::Merge(_) | StudyError::Scene(_) => {
+                CliError::Input(e.to_string())
+            }
             StudyError::Reference(r) => r.into(),
             StudyError::Io { .. } => CliError::Failed(e.to_string()),
         }
@@ -86,6 +88,7 @@ pub fn execute(command: Command) -> Result<(), CliError> {
         Command::FrameDiff { a, b } => run::frame_diff(&a, &b),
         Command::Reference(a) => compare::reference(a),
         Command::Compare(a) => compare::compare(a),
+        Command::Study(a) => compare::study(a),
         Command::Merge(a) => compare::merge(a),
         Command::Report(a) => compare::report(a),
         Command::Integrators { write_docs, docs } => suites::integrators(write_docs, &docs),

@@ -257,6 +257,31 @@ fn from_text_with(
     })
 }
 
+/// `loaded` with more `section.key=value` overrides (a study run's own settings), validated
+/// again. Errors name the key and the expectation; there is no file line for them.
+pub fn with_overrides(loaded: &LoadedScene, set: &[String]) -> Result<LoadedScene, SceneError> {
+    if set.is_empty() {
+        return Ok(loaded.clone());
+    }
+    let source = &loaded.source;
+    let mut table = toml::Table::try_from(&loaded.scene).map_err(|e| SceneError::Parse {
+        path: source.clone(),
+        message: e.to_string(),
+    })?;
+    for arg in set {
+        apply_override(&mut table, arg)?;
+    }
+    let scene = Scene::deserialize(toml::Value::Table(table)).map_err(|e| SceneError::Parse {
+        path: format!("{source} with {}", set.join(" ")),
+        message: e.to_string().trim_end().to_string(),
+    })?;
+    validate::validate(&scene, "", source, &loaded.base_dir)?;
+    Ok(LoadedScene {
+        scene,
+        ..loaded.clone()
+    })
+}
+
 use serde::Deserialize;
 
 /// Applies one `section.key=value` override to the serialized scene (which holds every key with

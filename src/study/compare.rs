@@ -162,7 +162,7 @@ fn run_config(
     reference: &Reference,
     bar: ProgressBar,
 ) -> Result<Row, StudyError> {
-    let loaded = c.scene(base);
+    let loaded = c.scene(base)?;
     let dir = opts.out_dir.join("runs").join(c.label());
     let mut row = empty_row(base, c);
     let summary = match reference::run_sampled(

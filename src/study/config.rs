@@ -1,15 +1,17 @@
 //! Run configurations of a study: a strategy on a starting grid with an integrator, at the scene's
 //! other parameters; parsed from `strategy[@resolution],...` and crossed with integrators.
 
+use super::file::RunTemplate;
 use super::StudyError;
 use crate::physics::integrator_named;
-use crate::scene::{LoadedScene, Scene, STRATEGIES};
+use crate::scene::{LoadedScene, STRATEGIES};
 use serde::{Deserialize, Serialize};
 
 /// Static grids of the default comparison (vertices per side).
 pub const DEFAULT_STATIC_GRIDS: [usize; 4] = [5, 9, 17, 33];
 
-/// One configuration: a strategy on a starting grid with an integrator.
+/// One configuration: a strategy on a starting grid with an integrator and its own scene
+/// overrides, at the scene's other parameters.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
 pub struct RunConfig {
     /// Strategy name.
@@ -18,22 +20,33 @@ pub struct RunConfig {
     pub resolution: usize,
     /// Integrator name.
     pub integrator: String,
+    /// The label's first part (the strategy, or the study run's `label`).
+    pub base: String,
+    /// Scene overrides of this run only (`section.key=value`); never the reference's.
+    pub set: Vec<String>,
+    /// Label suffix from swept values (`-h_min=0.04`), empty without a sweep.
+    pub suffix: String,
 }
 
 impl RunConfig {
-    /// `strategy-resolution-integrator`, e.g. `static-17-rk4` (also the run's folder name).
+    /// `base-resolution-integrator[suffix]`, e.g. `static-17-rk4` (also the run's folder name).
     pub fn label(&self) -> String {
-        format!("{}-{}-{}", self.strategy, self.resolution, self.integrator)
+        format!(
+            "{}-{}-{}{}",
+            self.base, self.resolution, self.integrator, self.suffix
+        )
     }
 
-    /// The scene of this configuration: `base` with its grid, strategy and integrator.
-    pub fn scene(&self, base: &LoadedScene) -> LoadedScene {
+    /// The scene of this configuration: `base` with its grid, strategy, integrator and own
+    /// overrides, validated.
+    pub fn scene(&self, base: &LoadedScene) -> Result<LoadedScene, StudyError> {
         let mut l = base.clone();
         l.scene.cloth.resolution = self.resolution;
         l.scene.cloth.resolution_v = 0;
         l.scene.adaptivity.strategy = self.strategy.clone();
         l.scene.integrator.name = self.integrator.clone();
-        l
+        crate::scene::with_overrides(&l, &self.set)
+            .map_err(|e| StudyError::Config(format!("run {}: {e}", self.label())))
     }
 }
 
@@ -48,22 +61,18 @@ pub fn default_spec() -> String {
     statics.chain(adaptive).collect::<Vec<_>>().join(",")
 }
 
-/// Parses `strategy[@resolution],...` (resolution defaults to the scene's) crossed with the
-/// integrators (default: the scene's), configuration-major. Unknown strategies and integrators,
-/// resolutions below 2, duplicates and an empty list are errors.
-pub fn parse_configs(
-    spec: &str,
-    scene: &Scene,
-    integrators: &[String],
-) -> Result<Vec<RunConfig>, StudyError> {
-    let integrators: Vec<String> = if integrators.is_empty() {
-        vec![scene.integrator.name.clone()]
-    } else {
-        integrators.to_vec()
-    };
-    for i in &integrators {
+/// Parses `strategy[@resolution],...` (resolution default: the scene's) crossed with the
+/// integrators (none: the scene's), configuration-major. Unknown strategies and integrators,
+/// resolutions below 2 and an empty list are errors.
+pub fn parse_runs(spec: &str, integrators: &[String]) -> Result<Vec<RunTemplate>, StudyError> {
+    for i in integrators {
         integrator_named(i).map_err(|e| StudyError::Config(e.to_string()))?;
     }
+    let integrators: Vec<Option<String>> = if integrators.is_empty() {
+        vec![None]
+    } else {
+        integrators.iter().cloned().map(Some).collect()
+    };
     let mut out = Vec::new();
     for item in spec.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let (strategy, resolution) = match item.split_once('@') {
@@ -73,9 +82,9 @@ pub fn parse_configs(
                         "configuration `{item}`: expected strategy@resolution with an integer resolution"
                     ))
                 })?;
-                (s.trim(), r)
+                (s.trim(), Some(r))
             }
-            None => (item, scene.cloth.resolution),
+            None => (item, None),
         };
         if !STRATEGIES.contains(&strategy) {
             return Err(StudyError::Config(format!(
@@ -83,28 +92,44 @@ pub fn parse_configs(
                 STRATEGIES.join(", ")
             )));
         }
-        if resolution < 2 {
+        if resolution.is_some_and(|r| r < 2) {
             return Err(StudyError::Config(format!(
                 "configuration `{item}`: resolution must be at least 2"
             )));
         }
-        for i in &integrators {
-            let c = RunConfig {
+        for integrator in &integrators {
+            out.push(RunTemplate {
                 strategy: strategy.to_string(),
                 resolution,
-                integrator: i.clone(),
-            };
-            if out.contains(&c) {
-                return Err(StudyError::Config(format!(
-                    "configuration {} listed twice",
-                    c.label()
-                )));
-            }
-            out.push(c);
+                integrator: integrator.clone(),
+                base: strategy.to_string(),
+                set: Vec::new(),
+                suffix: String::new(),
+            });
         }
     }
     if out.is_empty() {
         return Err(StudyError::Config("no configuration to run".into()));
+    }
+    Ok(out)
+}
+
+/// The configurations of `runs` on `scene`; two with the same label are an error.
+pub fn configs_for(
+    runs: &[RunTemplate],
+    scene: &LoadedScene,
+) -> Result<Vec<RunConfig>, StudyError> {
+    let mut out: Vec<RunConfig> = Vec::new();
+    for t in runs {
+        let c = t.config(scene);
+        if out.iter().any(|o| o.label() == c.label()) {
+            return Err(StudyError::Config(format!(
+                "configuration {} listed twice",
+                c.label()
+            )));
+        }
+        c.scene(scene)?;
+        out.push(c);
     }
     Ok(out)
 }
@@ -114,8 +139,16 @@ mod tests {
     use super::*;
     use crate::scene::load_embedded;
 
-    fn scene() -> Scene {
-        load_embedded("sphere", &[]).unwrap().unwrap().scene
+    fn scene() -> LoadedScene {
+        load_embedded("sphere", &[]).unwrap().unwrap()
+    }
+
+    fn parse_configs(
+        spec: &str,
+        scene: &LoadedScene,
+        integrators: &[String],
+    ) -> Result<Vec<RunConfig>, StudyError> {
+        configs_for(&parse_runs(spec, integrators)?, scene)
     }
 
     #[test]

@@ -1,7 +1,9 @@
 //! Studies: many runs, measured and tabulated. Above `eval` (which measures one run against a
 //! reference) and below `report` (which presents what a study wrote).
 //!
-//! - [`config`]: run configurations (`strategy@resolution` x integrators).
+//! - [`file`]: study files (`adaptcloth study FILE.toml`): scenes, reference, runs, sweeps.
+//! - [`config`]: run configurations (`strategy@resolution` x integrators, and study runs).
+//! - [`plan`]: a study made concrete per scene, checked before anything runs.
 //! - [`compare`]: a comparison of one scene: the reference, then every configuration on the pool.
 //! - [`table`]: the comparison table (`comparison.csv` with named columns, `comparison.json`).
 //! - [`pool`]: the parallel pool with one progress bar per run.
@@ -11,16 +13,20 @@
 
 pub mod compare;
 pub mod config;
+pub mod file;
 pub mod integrators;
 pub mod merge;
+pub mod plan;
 pub mod pool;
 pub mod shard;
 pub mod stability;
 pub mod table;
 
 pub use compare::{compare, CompareOptions};
-pub use config::{default_spec, parse_configs, RunConfig};
+pub use config::{default_spec, parse_runs, RunConfig};
+pub use file::{load_study, parse_study, RunTemplate, Study};
 pub use merge::merge;
+pub use plan::{plan, ScenePlan};
 pub use shard::Shard;
 pub use table::{read_comparison, Comparison, Row};
 
@@ -47,6 +53,9 @@ pub enum StudyError {
     /// Folders cannot be merged or read as comparisons (bad input).
     #[error("merge: {0}")]
     Merge(String),
+    /// A scene of the study is invalid (bad input).
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
 }
 
 /// Maps an I/O error on `path` to [`StudyError::Io`].

@@ -1,0 +1,412 @@
+//! Study files: a study described in TOML (`adaptcloth study FILE.toml`), parsed into a [`Study`].
+//! The format is documented in `docs/studies.md`; in short:
+//!
+//! ```toml
+//! name = "round_table"                  # default: the file's stem
+//! scenes = ["round_table"]              # embedded scene names, or files relative to this file
+//! duration = 0.6                        # optional: simulated time of every run (s)
+//! set = { "time.frame_rate" = 30 }      # scene keys for every run AND the reference
+//!
+//! [reference]                           # independent of the runs; these are the defaults
+//! resolution = 65                       # static grid, vertices per side
+//! floor = 33                            # the floor run's grid
+//! integrator = "rk4"
+//! beta = 0.01                           # dynamic step factor
+//! dt_initial = 0.0                      # step until the first contact (s); 0: dynamic at once
+//! samples = 64                          # material-point grid per side
+//!
+//! [[runs]]
+//! strategy = "bisect48"
+//! resolution = 5                        # start grid (default: the scene's)
+//! integrator = "implicit_euler"         # default: the scene's
+//! dt = 0.002                            # fixed step (s); or `beta` for the dynamic step
+//! set = { "adaptivity.interval" = 0.01 }          # scene keys for this run only
+//! sweep = { "adaptivity.h_min" = [0.08, 0.04] }   # one run per value (per combination)
+//! ```
+//!
+//! Labels: `BASE-RESOLUTION-INTEGRATOR` then `-KEY=VALUE` per swept key other than the grid
+//! (`KEY` is the last part of the scene key), `BASE` being the run's `label` or its strategy.
+//! Sweeping `cloth.resolution` (or `resolution`) sets the start grid. Every error names the file,
+//! the line and what was expected.
+
+use super::config::RunConfig;
+use super::StudyError;
+use crate::eval::reference::ReferenceSettings;
+use crate::physics::integrator_named;
+use crate::scene::{LoadedScene, STRATEGIES};
+use serde::Deserialize;
+use std::collections::BTreeMap;
+use std::path::Path;
+use toml::Spanned;
+
+/// A parsed study: what to run and what to measure against.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Study {
+    /// Name (outputs go to a folder of this name).
+    pub name: String,
+    /// One-line description.
+    pub description: String,
+    /// Where it came from (a file, or `command line`).
+    pub source: String,
+    /// Scenes: embedded names or paths.
+    pub scenes: Vec<String>,
+    /// Scene overrides for every run and the reference (`section.key=value`).
+    pub set: Vec<String>,
+    /// Simulated duration of every run and the reference (s), if not the scene's.
+    pub duration: Option<f64>,
+    /// The reference and its floor.
+    pub reference: ReferenceSettings,
+    /// The runs, before their scene is known (the start grid and integrator may be the scene's).
+    pub runs: Vec<RunTemplate>,
+}
+
+/// One run of a study, resolved against a scene by [`RunTemplate::config`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunTemplate {
+    /// Strategy name.
+    pub strategy: String,
+    /// Start grid (vertices per side); `None`: the scene's.
+    pub resolution: Option<usize>,
+    /// Integrator; `None`: the scene's.
+    pub integrator: Option<String>,
+    /// The label's first part (default: the strategy).
+    pub base: String,
+    /// Scene overrides of this run only (`section.key=value`).
+    pub set: Vec<String>,
+    /// Label suffix from the swept values (`-h_min=0.04`), empty without a sweep.
+    pub suffix: String,
+}
+
+impl RunTemplate {
+    /// The configuration of this run on `scene`.
+    pub fn config(&self, scene: &LoadedScene) -> RunConfig {
+        RunConfig {
+            strategy: self.strategy.clone(),
+            resolution: self.resolution.unwrap_or(scene.scene.cloth.resolution),
+            integrator: self
+                .integrator
+                .clone()
+                .unwrap_or_else(|| scene.scene.integrator.name.clone()),
+            base: self.base.clone(),
+            set: self.set.clone(),
+            suffix: self.suffix.clone(),
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StudyToml {
+    #[serde(default)]
+    name: String,
+    #[serde(default)]
+    description: String,
+    scenes: Vec<Spanned<String>>,
+    duration: Option<Spanned<f64>>,
+    #[serde(default)]
+    set: BTreeMap<String, toml::Value>,
+    #[serde(default)]
+    reference: ReferenceToml,
+    runs: Vec<RunToml>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields, default)]
+struct ReferenceToml {
+    resolution: Spanned<usize>,
+    floor: Spanned<usize>,
+    integrator: Spanned<String>,
+    beta: Spanned<f64>,
+    dt_initial: Spanned<f64>,
+    samples: Spanned<usize>,
+}
+
+impl Default for ReferenceToml {
+    fn default() -> Self {
+        let d = ReferenceSettings::default();
+        ReferenceToml {
+            resolution: Spanned::new(0..0, d.resolution),
+            floor: Spanned::new(0..0, d.floor_resolution),
+            integrator: Spanned::new(0..0, "rk4".into()),
+            beta: Spanned::new(0..0, d.beta.unwrap_or(0.01)),
+            dt_initial: Spanned::new(0..0, d.dt_initial.unwrap_or(0.0)),
+            samples: Spanned::new(0..0, d.samples),
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RunToml {
+    strategy: Spanned<String>,
+    resolution: Option<Spanned<usize>>,
+    integrator: Option<Spanned<String>>,
+    label: Option<Spanned<String>>,
+    dt: Option<Spanned<f64>>,
+    beta: Option<Spanned<f64>>,
+    #[serde(default)]
+    set: BTreeMap<String, toml::Value>,
+    #[serde(default)]
+    sweep: BTreeMap<String, Spanned<Vec<toml::Value>>>,
+}
+
+/// Errors of one study file: the file, the line of a span, and what was expected.
+struct Errors<'a> {
+    text: &'a str,
+    source: &'a str,
+}
+
+impl Errors<'_> {
+    fn at(&self, span: std::ops::Range<usize>, message: String) -> StudyError {
+        let line = self.text[..span.start.min(self.text.len())]
+            .matches('\n')
+            .count()
+            + 1;
+        StudyError::Config(format!("{}:{line}: {message}", self.source))
+    }
+
+    fn spanned<T>(&self, v: &Spanned<T>, message: String) -> StudyError {
+        self.at(v.span(), message)
+    }
+}
+
+/// Reads and checks a study file; scene paths are made relative to its folder.
+pub fn load_study(path: &Path) -> Result<Study, StudyError> {
+    let text = std::fs::read_to_string(path).map_err(|e| {
+        StudyError::Config(format!("{}: cannot read study file: {e}", path.display()))
+    })?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    parse_study(&text, &path.display().to_string(), &stem, &dir)
+}
+
+/// Parses study text; `source` names it in errors, `default_name` is used when it has no name,
+/// `dir` is the folder scene paths are relative to.
+pub fn parse_study(
+    text: &str,
+    source: &str,
+    default_name: &str,
+    dir: &Path,
+) -> Result<Study, StudyError> {
+    let err = Errors { text, source };
+    let file: StudyToml = toml::from_str(text)
+        .map_err(|e| StudyError::Config(format!("{source}: {}", e.to_string().trim_end())))?;
+    if file.scenes.is_empty() {
+        return Err(StudyError::Config(format!(
+            "{source}: `scenes` is empty: name at least one scene"
+        )));
+    }
+    if file.runs.is_empty() {
+        return Err(StudyError::Config(format!(
+            "{source}: no [[runs]]: a study needs at least one run"
+        )));
+    }
+    let scenes = file
+        .scenes
+        .iter()
+        .map(|s| scene_path(s.get_ref(), dir))
+        .collect();
+    if let Some(d) = &file.duration {
+        if !(d.get_ref().is_finite() && *d.get_ref() > 0.0) {
+            return Err(err.spanned(
+                d,
+                format!(
+                    "duration = {}: expected a finite value > 0 (s)",
+                    d.get_ref()
+                ),
+            ));
+        }
+    }
+    let reference = reference_settings(&file.reference, &err)?;
+    let mut runs = Vec::new();
+    for (i, run) in file.runs.iter().enumerate() {
+        runs.extend(expand_run(run, i, &err)?);
+    }
+    check_unique_labels(&runs, source)?;
+    Ok(Study {
+        name: if file.name.is_empty() {
+            default_name.to_string()
+        } else {
+            file.name
+        },
+        description: file.description,
+        source: source.to_string(),
+        scenes,
+        set: overrides(&file.set),
+        duration: file.duration.map(|d| d.into_inner()),
+        reference,
+        runs,
+    })
+}
+
+/// A scene name as given, or a path relative to the study's folder when such a file exists.
+fn scene_path(name: &str, dir: &Path) -> String {
+    let p = dir.join(name);
+    if !Path::new(name).is_absolute() && p.is_file() {
+        p.display().to_string()
+    } else {
+        name.to_string()
+    }
+}
+
+/// `key=value` strings (values in TOML syntax) for the scene loader.
+fn overrides(set: &BTreeMap<String, toml::Value>) -> Vec<String> {
+    set.iter().map(|(k, v)| format!("{k}={v}")).collect()
+}
+
+fn reference_settings(r: &ReferenceToml, err: &Errors) -> Result<ReferenceSettings, StudyError> {
+    for (key, v) in [
+        ("resolution", &r.resolution),
+        ("floor", &r.floor),
+        ("samples", &r.samples),
+    ] {
+        if *v.get_ref() < 2 {
+            return Err(err.spanned(
+                v,
+                format!("reference.{key} = {}: expected at least 2", v.get_ref()),
+            ));
+        }
+    }
+    integrator_named(r.integrator.get_ref())
+        .map_err(|e| err.spanned(&r.integrator, format!("reference.integrator: {e}")))?;
+    let beta = *r.beta.get_ref();
+    if !(beta.is_finite() && beta > 0.0) {
+        return Err(err.spanned(
+            &r.beta,
+            format!("reference.beta = {beta}: expected a finite value > 0"),
+        ));
+    }
+    let dt0 = *r.dt_initial.get_ref();
+    if !(dt0.is_finite() && dt0 >= 0.0) {
+        return Err(err.spanned(
+            &r.dt_initial,
+            format!("reference.dt_initial = {dt0}: expected a finite value >= 0 (s)"),
+        ));
+    }
+    Ok(ReferenceSettings {
+        resolution: *r.resolution.get_ref(),
+        floor_resolution: *r.floor.get_ref(),
+        beta: Some(beta),
+        integrator: Some(r.integrator.get_ref().clone()),
+        dt_initial: Some(dt0),
+        samples: *r.samples.get_ref(),
+    })
+}
+
+/// Is `key` the start grid (`resolution` or `cloth.resolution`)?
+fn is_grid_key(key: &str) -> bool {
+    key == "resolution" || key == "cloth.resolution"
+}
+
+/// One `[[runs]]` entry expanded over its sweep (every combination, keys in name order).
+fn expand_run(run: &RunToml, index: usize, err: &Errors) -> Result<Vec<RunTemplate>, StudyError> {
+    let strategy = run.strategy.get_ref();
+    if !STRATEGIES.contains(&strategy.as_str()) {
+        return Err(err.spanned(
+            &run.strategy,
+            format!(
+                "runs[{index}].strategy = \"{strategy}\": expected one of: {}",
+                STRATEGIES.join(", ")
+            ),
+        ));
+    }
+    if let Some(r) = &run.resolution {
+        if *r.get_ref() < 2 {
+            return Err(err.spanned(
+                r,
+                format!(
+                    "runs[{index}].resolution = {}: expected at least 2",
+                    r.get_ref()
+                ),
+            ));
+        }
+    }
+    if let Some(i) = &run.integrator {
+        integrator_named(i.get_ref())
+            .map_err(|e| err.spanned(i, format!("runs[{index}].integrator: {e}")))?;
+    }
+    let mut set = overrides(&run.set);
+    match (&run.dt, &run.beta) {
+        (Some(dt), Some(_)) => {
+            return Err(err.spanned(
+                dt,
+                format!("runs[{index}]: give `dt` (fixed step) or `beta` (dynamic step), not both"),
+            ));
+        }
+        (Some(dt), None) => {
+            set.push("time.mode=\"fixed\"".into());
+            set.push(format!("time.dt={:?}", dt.get_ref()));
+        }
+        (None, Some(beta)) => {
+            set.push("time.mode=\"dynamic\"".into());
+            set.push(format!("time.beta={:?}", beta.get_ref()));
+        }
+        (None, None) => {}
+    }
+    let base = run
+        .label
+        .as_ref()
+        .map(|l| l.get_ref().clone())
+        .unwrap_or_else(|| strategy.clone());
+    let mut out = vec![RunTemplate {
+        strategy: strategy.clone(),
+        resolution: run.resolution.as_ref().map(|r| *r.get_ref()),
+        integrator: run.integrator.as_ref().map(|i| i.get_ref().clone()),
+        base,
+        set,
+        suffix: String::new(),
+    }];
+    for (key, values) in &run.sweep {
+        if values.get_ref().is_empty() {
+            return Err(err.spanned(
+                values,
+                format!("runs[{index}].sweep.{key}: expected at least one value"),
+            ));
+        }
+        let mut next = Vec::new();
+        for t in &out {
+            for v in values.get_ref() {
+                let mut t = t.clone();
+                if is_grid_key(key) {
+                    let n = v.as_integer().filter(|n| *n >= 2).ok_or_else(|| {
+                        err.spanned(values, format!("runs[{index}].sweep.{key}: {v} is not a grid of at least 2 vertices per side"))
+                    })?;
+                    t.resolution = Some(n as usize);
+                } else {
+                    let short = key.rsplit('.').next().unwrap_or(key);
+                    t.suffix.push_str(&format!("-{short}={v}"));
+                    t.set.push(format!("{key}={v}"));
+                }
+                next.push(t);
+            }
+        }
+        out = next;
+    }
+    Ok(out)
+}
+
+/// Two runs with the same label would write the same folder: an error naming both.
+fn check_unique_labels(runs: &[RunTemplate], source: &str) -> Result<(), StudyError> {
+    let key = |t: &RunTemplate| {
+        (
+            t.base.clone(),
+            t.resolution,
+            t.integrator.clone(),
+            t.suffix.clone(),
+        )
+    };
+    for (i, a) in runs.iter().enumerate() {
+        if let Some(b) = runs[..i].iter().find(|b| key(b) == key(a)) {
+            return Err(StudyError::Config(format!(
+                "{source}: two runs would have the same label ({} {}{}): give one a `label`",
+                b.base,
+                b.integrator.as_deref().unwrap_or("(scene's integrator)"),
+                b.suffix
+            )));
+        }
+    }
+    Ok(())
+}
