@@ -213,6 +213,10 @@ pub struct StudyArgs {
     /// Recompute the references even when they are cached.
     #[arg(long)]
     pub force_reference: bool,
+    /// Only compute (or check) each scene's reference in the cache, then stop: run this once
+    /// before the shards of a study so they do not all compute it.
+    #[arg(long)]
+    pub references_only: bool,
     /// results.md over the study's scenes.
     #[command(flatten)]
     pub docs: DocsArgs,

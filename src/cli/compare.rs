@@ -137,9 +137,30 @@ pub fn study(args: StudyArgs) -> Result<(), CliError> {
         .unwrap_or_else(|| PathBuf::from("out").join(format!("study-{}", definition.name)));
     let plans = study::plan(&definition, |name| root.join(name))?;
     let execution = Execution::new(&args.execution, &args.cache, args.force_reference)?;
+    if args.references_only {
+        return references(&definition, &plans, &execution);
+    }
     let done = run_plans(&definition, plans, &execution)?;
     let command = format!("adaptcloth study {}", args.file.display());
     write_docs(args.docs.write_docs, &done, &command, notes)
+}
+
+/// `study --references-only`: each scene's reference in the cache, nothing else.
+fn references(definition: &Study, plans: &[ScenePlan], e: &Execution) -> Result<(), CliError> {
+    let progress = study::pool::Progress::new(e.progress);
+    for plan in plans {
+        let r = reference::ensure_reference(
+            &plan.loaded,
+            &definition.reference,
+            &e.cache,
+            e.jobs,
+            e.force_reference,
+            Some(progress.multi()),
+            Some(interrupt_flag()),
+        )?;
+        println!("{}", reference::describe(&r));
+    }
+    Ok(())
 }
 
 /// How the runs of a study are executed (shared by `compare` and `study`).

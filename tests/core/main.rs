@@ -8,4 +8,5 @@ mod golden;
 mod integrators;
 mod physics_laws;
 mod runs;
+mod study;
 mod transfer;
