@@ -10,9 +10,9 @@
 use super::metrics;
 use super::reference::{self, Floor, Reference, ReferenceError, ReferenceSettings};
 use crate::physics::integrator_named;
-use crate::scene::{LoadedScene, ObstacleSpec, Scene, STRATEGIES};
+use crate::scene::{LoadedScene, ObstacleSpec, Scene};
 use crate::sim::{RunStatus, SamplePoints};
-use crate::strategies::make_strategy;
+use crate::strategies::{make_strategy, strategy_names};
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -78,7 +78,7 @@ pub fn default_configs(scene: &Scene, integrators: &[String]) -> Vec<RunConfig> 
         .map(|n| format!("static@{n}"))
         .collect();
     spec.extend(
-        STRATEGIES
+        strategy_names()
             .iter()
             .filter(|s| **s != "static")
             .map(|s| s.to_string()),
@@ -115,10 +115,10 @@ pub fn parse_configs(
             }
             None => (item, scene.cloth.resolution),
         };
-        if !STRATEGIES.contains(&strategy) {
+        if !strategy_names().contains(&strategy) {
             return Err(CompareError::Config(format!(
                 "configuration `{item}`: unknown strategy `{strategy}`; valid strategies: {}",
-                STRATEGIES.join(", ")
+                strategy_names().join(", ")
             )));
         }
         if resolution < 2 {

@@ -703,12 +703,12 @@ pub fn write_docs(
          computed from the runs (the settings notes are kept with the command that writes this \
          page).*\n"
     );
-    let built: Vec<String> = crate::scene::STRATEGIES
+    let built: Vec<String> = crate::strategies::strategy_names()
         .iter()
         .filter(|s| crate::strategies::make_strategy(s).is_ok())
         .map(|s| format!("`{s}`"))
         .collect();
-    let not_built: Vec<String> = crate::scene::STRATEGIES
+    let not_built: Vec<String> = crate::strategies::strategy_names()
         .iter()
         .filter(|s| crate::strategies::make_strategy(s).is_err())
         .map(|s| format!("`{s}`"))

@@ -1,7 +1,7 @@
 //! Range checks of a parsed scene, reported with the file, the line of the key and what was
 //! expected.
 
-use super::{ClothShape, ObstacleShape, Scene, SceneError, STRATEGIES};
+use super::{ClothShape, ObstacleShape, Scene, SceneError};
 use crate::math::Real;
 use std::path::Path;
 
@@ -237,7 +237,11 @@ pub(super) fn validate(
     }
 
     let a = &scene.adaptivity;
-    c.one_of("adaptivity.strategy", &a.strategy, STRATEGIES)?;
+    c.one_of(
+        "adaptivity.strategy",
+        &a.strategy,
+        crate::strategies::strategy_names(),
+    )?;
     c.open_unit("adaptivity.compression_c", a.compression_c)?;
     for (k, v) in [
         ("cos_refine", a.cos_refine),

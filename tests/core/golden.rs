@@ -75,7 +75,11 @@ fn digest(out: &Path) -> String {
     let mut files = Vec::new();
     hashed_files(&out.join("runs"), &mut files);
     for f in files {
-        let rel = f.strip_prefix(out).expect("inside out").display().to_string();
+        let rel = f
+            .strip_prefix(out)
+            .expect("inside out")
+            .display()
+            .to_string();
         let bytes = std::fs::read(&f).expect("readable");
         s.push_str(&format!("{rel} {:016x}\n", fnv1a(&bytes)));
     }
@@ -109,11 +113,7 @@ fn study(out: &Path, cache: &Path, integrator: &str, extra: &[&str]) {
         .args(&args)
         .output()
         .expect("binary runs");
-    assert!(
-        o.status.success(),
-        "{}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
 }
 
 #[test]
