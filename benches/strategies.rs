@@ -1,16 +1,15 @@
-//! Head-to-head bench: every built strategy on every source scene over a short fixed window of
+//! Head-to-head bench: every registered strategy on every source scene over a short fixed window of
 //! simulated time in which adaptivity is active (the cloth is in contact and folding), starting
 //! from a stored mid-drape state: the static 5x5 run of the scene taken to mid-drape once, in the
 //! bench's setup (all strategies start from the same union-jack 5x5 mesh, so the state applies to
-//! each). `BenchmarkId::new(strategy, scene)`; strategies that are not built are skipped with a
-//! note. Criterion runs without its plotting feature.
+//! each). `BenchmarkId::new(strategy, scene)`. Criterion runs without its plotting feature.
 //!
 //! `cargo bench --bench strategies`
 
 use adaptcloth::math::Vec3;
-use adaptcloth::scene::{load_embedded, LoadedScene, STRATEGIES};
+use adaptcloth::scene::{load_embedded, LoadedScene};
 use adaptcloth::sim::Simulation;
-use adaptcloth::strategies::make_strategy;
+use adaptcloth::strategies::strategy_names;
 use criterion::{criterion_group, criterion_main, BatchSize, BenchmarkId, Criterion};
 use std::hint::black_box;
 use std::time::Duration;
@@ -69,20 +68,9 @@ fn strategies(c: &mut Criterion) {
         .sample_size(10)
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3));
-    let built: Vec<&str> = STRATEGIES
-        .iter()
-        .copied()
-        .filter(|s| match make_strategy(s) {
-            Ok(_) => true,
-            Err(e) => {
-                eprintln!("skipping {s}: {e}");
-                false
-            }
-        })
-        .collect();
     for (name, t_mid) in SCENES {
         let state = mid_drape(name, t_mid);
-        for &strategy in &built {
+        for &strategy in strategy_names() {
             group.bench_with_input(BenchmarkId::new(strategy, name), &state, |b, state| {
                 b.iter_batched(
                     || start(name, strategy, t_mid, state),

@@ -3,7 +3,8 @@
 //!
 //! In the step: after integration and the collision pass, the simulation calls
 //! [`Adaptivity::adapt`]; a strategy decides what to change (the criteria are shared:
-//! [`criteria`]), and applies every elementary change through [`apply_edit`], which checks
+//! [`criteria`]), and applies every elementary change through the one shared edit target
+//! ([`AdaptContext::edit_target`], a [`ClothTarget`] over [`apply_edit_with`]), which checks
 //! conformity, transfers state to new vertices, recomputes touched masses, restores the region's
 //! linear momentum and records the kinetic-energy change. Spring and bending arrays and `dt` are
 //! rebuilt by the simulation before the next step.
@@ -32,6 +33,23 @@ pub struct AdaptContext<'a> {
     pub time: Real,
     /// The scene's adaptivity parameters.
     pub spec: &'a AdaptivitySpec,
+}
+
+impl AdaptContext<'_> {
+    /// The cloth edited through the shared state-transfer service with the scene's options:
+    /// new vertices pushed out of the obstacles, momentum and kinetic energy restored as
+    /// `restore_momentum` and `restore_energy` say. Every strategy applies its edits through it,
+    /// so these options mean the same for all of them.
+    pub fn edit_target<'c>(&self, cloth: &'c mut Cloth) -> ClothTarget<'c, '_> {
+        ClothTarget::new(
+            cloth,
+            TransferOptions {
+                obstacles: Some(self.obstacles),
+                restore_momentum: self.spec.restore_momentum,
+                restore_energy: self.spec.restore_energy,
+            },
+        )
+    }
 }
 
 /// What one call of [`Adaptivity::adapt`] changed.
@@ -84,6 +102,7 @@ pub trait Adaptivity: Send {
     /// The strategy's name as given to `--strategy`.
     fn name(&self) -> &'static str;
 
-    /// Inspects the state after a step and changes the mesh through [`apply_edit`].
+    /// Inspects the state after a step and changes the mesh through
+    /// [`AdaptContext::edit_target`].
     fn adapt(&mut self, cloth: &mut Cloth, ctx: &AdaptContext) -> Result<AdaptReport, AdaptError>;
 }

@@ -27,9 +27,6 @@ pub const EMBEDDED_SCENES: &[(&str, &str)] = &[
     ("sphere_peer", include_str!("../../scenes/sphere_peer.toml")),
 ];
 
-/// Strategy names accepted by `[adaptivity] strategy` and `--strategy`.
-pub const STRATEGIES: &[&str] = &["static", "remesh", "simnett", "bisect48"];
-
 /// A scene ready to run: the parsed, overridden and validated scene, where it came from, and the
 /// folder its relative file names (meshes) are resolved against.
 #[derive(Clone, Debug)]

@@ -387,7 +387,8 @@ pub struct AdaptivitySpec {
     pub restore_momentum: bool,
     /// Restore the kinetic energy an edit loses by averaging velocities with the momentum-neutral
     /// correction of MODEL.md §8.4 rule 6 (velocities of the touched vertices relative to their
-    /// mean scaled; `adapt::restore_kinetic_energy`). Used by `bisect48`. Default off.
+    /// mean scaled; `adapt::restore_kinetic_energy`), in every strategy that edits the mesh.
+    /// Default off.
     pub restore_energy: bool,
     /// Compression criterion `c`: refine when `L / L_rest < c`. Default 0.70.
     pub compression_c: Real,
@@ -424,8 +425,8 @@ pub struct AdaptivitySpec {
     /// the edge can split (the project's improvement). Default false: the source's faithful rule
     /// (the edge waits until its parent triangle reaches state 7).
     pub force_completion: bool,
-    /// Local remeshing: simulated time between criteria evaluations (s); 0 evaluates after every
-    /// step, as the source did. Default 0.
+    /// Simulated time between adaptation passes (s), for every strategy (the step loop skips the
+    /// adapt stage in between); 0 adapts after every step, as the source did. Default 0.
     pub interval: Real,
     /// Local remeshing: minimum angle the hole mesher keeps away from the hole border (degrees).
     /// Default 25.

@@ -160,3 +160,58 @@ fn set_with_wrong_type_is_an_error_not_a_panic() {
     let e = load_text("", &["cloth.resolution=abc"]).unwrap_err();
     assert!(matches!(e, SceneError::Parse { .. }), "{e}");
 }
+
+#[test]
+fn a_strategy_specific_key_set_for_a_strategy_that_ignores_it_is_rejected() {
+    let text = "[adaptivity]\nstrategy = \"remesh\"\nmax_depth = 5\n";
+    let e = load_text(text, &[]).unwrap_err().to_string();
+    assert!(e.contains("test.toml:3: adaptivity.max_depth = 5"), "{e}");
+    assert!(e.contains("`remesh` ignores"), "{e}");
+    assert!(e.contains("simnett, bisect48 only"), "{e}");
+    for (key, strategy) in [
+        ("force_completion=true", "bisect48"),
+        ("remesh_min_angle=20", "simnett"),
+        ("depth_factor=0.9", "bisect48"),
+        ("curvature_exponent=1", "simnett"),
+    ] {
+        let strategy = format!("adaptivity.strategy={strategy}");
+        let key = format!("adaptivity.{key}");
+        let e = load_text("", &[&strategy, &key]).unwrap_err();
+        assert!(matches!(e, SceneError::Invalid { .. }), "{key}: {e}");
+    }
+    // The strategies that read a key accept it; the static baseline accepts everything; the
+    // default value is accepted everywhere.
+    load_text(
+        "",
+        &[
+            "adaptivity.strategy=simnett",
+            "adaptivity.force_completion=true",
+        ],
+    )
+    .unwrap();
+    load_text(
+        "",
+        &["adaptivity.strategy=bisect48", "adaptivity.max_depth=4"],
+    )
+    .unwrap();
+    load_text(
+        "",
+        &["adaptivity.max_depth=4", "adaptivity.remesh_min_angle=20"],
+    )
+    .unwrap();
+    load_text(
+        "",
+        &["adaptivity.strategy=remesh", "adaptivity.max_depth=3"],
+    )
+    .unwrap();
+}
+
+#[test]
+fn every_source_scene_loads_with_every_strategy() {
+    for (name, _) in EMBEDDED_SCENES {
+        for strategy in crate::strategies::strategy_names() {
+            let set = format!("adaptivity.strategy={strategy}");
+            load_text(text_of(name), &[&set]).unwrap_or_else(|e| panic!("{name}/{strategy}: {e}"));
+        }
+    }
+}

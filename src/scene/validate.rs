@@ -1,7 +1,7 @@
 //! Range checks of a parsed scene, reported with the file, the line of the key and what was
 //! expected.
 
-use super::{ClothShape, ObstacleShape, Scene, SceneError, STRATEGIES};
+use super::{AdaptivitySpec, ClothShape, ObstacleShape, Scene, SceneError};
 use crate::math::Real;
 use std::path::Path;
 
@@ -237,7 +237,12 @@ pub(super) fn validate(
     }
 
     let a = &scene.adaptivity;
-    c.one_of("adaptivity.strategy", &a.strategy, STRATEGIES)?;
+    c.one_of(
+        "adaptivity.strategy",
+        &a.strategy,
+        crate::strategies::strategy_names(),
+    )?;
+    strategy_options(&c, a)?;
     c.open_unit("adaptivity.compression_c", a.compression_c)?;
     for (k, v) in [
         ("cos_refine", a.cos_refine),
@@ -286,6 +291,70 @@ pub(super) fn validate(
                 "expected finite [u, v]",
             ));
         }
+    }
+    Ok(())
+}
+
+/// Fails when a strategy-specific `[adaptivity]` key holds a non-default value while the scene's
+/// strategy ignores it (the strategy registry says which strategies read which key). A strategy
+/// that never edits the mesh (`static`) ignores every key and is not checked: scenes keep the
+/// parameters of the strategies they are compared with. `density_refine` and `density_simplify`
+/// (remesh only) are not checked either: the source scenes tune them for remesh and are run with
+/// every strategy.
+fn strategy_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
+    let Ok(strategy) = crate::strategies::strategy_named(&a.strategy) else {
+        return Ok(());
+    };
+    if !strategy.edits_mesh {
+        return Ok(());
+    }
+    let d = AdaptivitySpec::default();
+    let keys: [(&str, String, String); 5] = [
+        (
+            "curvature_exponent",
+            a.curvature_exponent.to_string(),
+            d.curvature_exponent.to_string(),
+        ),
+        (
+            "max_depth",
+            a.max_depth.to_string(),
+            d.max_depth.to_string(),
+        ),
+        (
+            "depth_factor",
+            a.depth_factor.to_string(),
+            d.depth_factor.to_string(),
+        ),
+        (
+            "force_completion",
+            a.force_completion.to_string(),
+            d.force_completion.to_string(),
+        ),
+        (
+            "remesh_min_angle",
+            a.remesh_min_angle.to_string(),
+            d.remesh_min_angle.to_string(),
+        ),
+    ];
+    for (key, value, default) in keys {
+        if value == default || strategy.options.contains(&key) {
+            continue;
+        }
+        let users: Vec<&str> = crate::strategies::STRATEGIES
+            .iter()
+            .filter(|s| s.options.contains(&key))
+            .map(|s| s.name)
+            .collect();
+        return Err(c.fail(
+            &format!("adaptivity.{key}"),
+            value,
+            &format!(
+                "strategy `{}` ignores this key; it applies to {} only (remove it or set it to \
+                 its default, {default})",
+                strategy.name,
+                users.join(", ")
+            ),
+        ));
     }
     Ok(())
 }

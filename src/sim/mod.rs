@@ -1,5 +1,6 @@
 //! The step loop. One step reads in one function, [`Simulation::step`]: choose `dt`, integrate,
-//! collide, adapt; each stage is timed. Recording and the run driver are in [`run`].
+//! collide, adapt (every `adaptivity.interval` of simulated time); each stage is timed. Recording
+//! and the run driver are in [`run`].
 
 mod run;
 mod sample;
@@ -103,6 +104,8 @@ pub struct Simulation {
     x_start: Vec<Vec3>,
     /// `ForceModel::damping_step_limit` (s) and the mesh version it was computed for.
     damping_limit: (u64, Real),
+    /// Simulated time (s) of the last adaptation pass, for `adaptivity.interval`.
+    last_adapt: Option<Real>,
     /// Driven pinned vertices (slot, prescribed velocity in m/s), from `cloth.pinned_velocity`.
     drivers: Vec<(usize, Vec3)>,
     /// Wall time per stage.
@@ -153,6 +156,7 @@ impl Simulation {
             contact_seen: false,
             x_start: Vec::new(),
             damping_limit: (u64::MAX, Real::INFINITY),
+            last_adapt: None,
             drivers,
             stage_times: StageTimes::default(),
         })
@@ -241,19 +245,23 @@ impl Simulation {
         self.check_finite()?;
 
         let clock = Instant::now();
-        let ctx = AdaptContext {
-            obstacles: &self.obstacles,
-            time: self.t,
-            spec: &self.scene.adaptivity,
+        let adapt = if self.adapt_due() {
+            self.last_adapt = Some(self.t);
+            let ctx = AdaptContext {
+                obstacles: &self.obstacles,
+                time: self.t,
+                spec: &self.scene.adaptivity,
+            };
+            self.strategy
+                .adapt(&mut self.cloth, &ctx)
+                .map_err(|e| StepError::Adapt {
+                    step: self.steps,
+                    t: self.t,
+                    reason: e.to_string(),
+                })?
+        } else {
+            AdaptReport::default()
         };
-        let adapt = self
-            .strategy
-            .adapt(&mut self.cloth, &ctx)
-            .map_err(|e| StepError::Adapt {
-                step: self.steps,
-                t: self.t,
-                reason: e.to_string(),
-            })?;
         self.stage_times.adapt_s += secs(clock.elapsed());
         if adapt.events > 0 {
             let clock = Instant::now();
@@ -267,6 +275,14 @@ impl Simulation {
             adapt,
             integrator,
         })
+    }
+
+    /// Whether the adapt stage runs this step: always for the first pass, then once at least
+    /// `adaptivity.interval` (s, with a relative slack of 1e-9) has passed since the last one.
+    fn adapt_due(&self) -> bool {
+        let interval = self.scene.adaptivity.interval;
+        self.last_adapt
+            .is_none_or(|t0| self.t - t0 >= interval * (1.0 - 1e-9))
     }
 
     /// True when the run reached its duration.

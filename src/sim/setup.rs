@@ -25,7 +25,7 @@ pub enum SetupError {
         /// Rest v (m).
         v: Real,
     },
-    /// The strategy is unknown or not built.
+    /// The strategy is unknown.
     #[error("{0}")]
     Strategy(#[from] crate::strategies::StrategyError),
     /// The integrator is unknown.

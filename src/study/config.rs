@@ -4,7 +4,8 @@
 use super::file::RunTemplate;
 use super::StudyError;
 use crate::physics::integrator_named;
-use crate::scene::{LoadedScene, STRATEGIES};
+use crate::scene::LoadedScene;
+use crate::strategies::strategy_names;
 use serde::{Deserialize, Serialize};
 
 /// Static grids of the default comparison (vertices per side).
@@ -54,7 +55,7 @@ impl RunConfig {
 /// scene's grid.
 pub fn default_spec() -> String {
     let statics = DEFAULT_STATIC_GRIDS.iter().map(|n| format!("static@{n}"));
-    let adaptive = STRATEGIES
+    let adaptive = strategy_names()
         .iter()
         .filter(|s| **s != "static")
         .map(|s| s.to_string());
@@ -86,10 +87,10 @@ pub fn parse_runs(spec: &str, integrators: &[String]) -> Result<Vec<RunTemplate>
             }
             None => (item, None),
         };
-        if !STRATEGIES.contains(&strategy) {
+        if !strategy_names().contains(&strategy) {
             return Err(StudyError::Config(format!(
                 "configuration `{item}`: unknown strategy `{strategy}`; valid strategies: {}",
-                STRATEGIES.join(", ")
+                strategy_names().join(", ")
             )));
         }
         if resolution.is_some_and(|r| r < 2) {

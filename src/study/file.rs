@@ -33,7 +33,8 @@ use super::config::RunConfig;
 use super::StudyError;
 use crate::eval::reference::ReferenceSettings;
 use crate::physics::integrator_named;
-use crate::scene::{LoadedScene, STRATEGIES};
+use crate::scene::LoadedScene;
+use crate::strategies::strategy_names;
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -304,12 +305,12 @@ fn is_grid_key(key: &str) -> bool {
 /// One `[[runs]]` entry expanded over its sweep (every combination, keys in name order).
 fn expand_run(run: &RunToml, index: usize, err: &Errors) -> Result<Vec<RunTemplate>, StudyError> {
     let strategy = run.strategy.get_ref();
-    if !STRATEGIES.contains(&strategy.as_str()) {
+    if !strategy_names().contains(&strategy.as_str()) {
         return Err(err.spanned(
             &run.strategy,
             format!(
                 "runs[{index}].strategy = \"{strategy}\": expected one of: {}",
-                STRATEGIES.join(", ")
+                strategy_names().join(", ")
             ),
         ));
     }

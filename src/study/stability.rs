@@ -10,9 +10,9 @@ use crate::cloth::Cloth;
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{Mesh, VertexId};
 use crate::physics::INTEGRATORS;
-use crate::scene::{self, LoadedScene, TimeMode, STRATEGIES};
+use crate::scene::{self, LoadedScene, TimeMode};
 use crate::sim::{Simulation, StepError};
-use crate::strategies::make_strategy;
+use crate::strategies::strategy_names;
 use std::time::Instant;
 
 /// Fewest steps of a bisection trial and of the beyond-the-limit case.
@@ -21,13 +21,9 @@ pub const MIN_STEPS: usize = 40;
 /// Energy tolerance of the stability criteria, as a fraction of `M |g| x 1 m`.
 pub const ENERGY_TOL: Real = 1e-3;
 
-/// The strategies `strategies::make_strategy` builds today (the suite runs for each).
+/// Every registered strategy (the suite runs for each).
 pub fn built_strategies() -> Vec<&'static str> {
-    STRATEGIES
-        .iter()
-        .copied()
-        .filter(|s| make_strategy(s).is_ok())
-        .collect()
+    strategy_names().to_vec()
 }
 
 /// An embedded scene with the given integrator and strategy (panics only on a broken embedded

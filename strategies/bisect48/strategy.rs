@@ -18,13 +18,11 @@
 //! Hysteresis: the criteria's refine and simplify thresholds differ (`cos_refine` vs
 //! `cos_simplify`, compression refines and never simplifies), a vertex is merged only when all of
 //! its edges are simplify-selected and at least `t_simplify` old, and refined edges are never
-//! simplify-selected in the same call. The transfer is `adapt::apply_edit_with` with
-//! `restore_momentum` and `restore_energy` from the scene.
+//! simplify-selected in the same call. The transfer is the shared one,
+//! [`AdaptContext::edit_target`], with `restore_momentum` and `restore_energy` from the scene.
 
 use super::labels::Labels;
 use super::ops::OpError;
-use crate::adapt::ClothTarget;
-use crate::adapt::TransferOptions;
 use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
 use crate::cloth::Cloth;
 use crate::math::Real;
@@ -108,15 +106,7 @@ impl Adaptivity for Bisect48 {
         let Some(labels) = self.labels.as_mut() else {
             return Ok(AdaptReport::default());
         };
-        let mut target = ClothTarget {
-            cloth,
-            options: TransferOptions {
-                obstacles: Some(ctx.obstacles),
-                restore_momentum: spec.restore_momentum,
-                restore_energy: spec.restore_energy,
-            },
-            report: AdaptReport::default(),
-        };
+        let mut target = ctx.edit_target(cloth);
 
         // Refinement.
         for &(e, _) in &selection.refine {

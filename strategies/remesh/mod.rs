@@ -9,9 +9,10 @@
 //! `strategy` (the [`Adaptivity`](crate::adapt::Adaptivity) implementation and the per-edge
 //! refinement times for the hysteresis).
 //!
-//! The elementary operation is exposed for property tests: [`remesh_mesh`] drives the topology
-//! alone, [`remesh_cloth`] goes through the state-transfer service [`apply_edit`]. Both leave the
-//! mesh (and the cloth) untouched on error.
+//! The elementary operation is exposed for property tests: [`remesh_region`] applies it to an
+//! [`EditTarget`], the bare mesh (topology alone) or the cloth through the same state-transfer
+//! service every strategy uses ([`crate::adapt::ClothTarget`]). It leaves the mesh (and the cloth)
+//! untouched on error.
 
 mod hole;
 mod plan;
@@ -24,11 +25,9 @@ pub use plan::{plan_region, Plan};
 pub use region::{components, region_faces};
 pub use strategy::Remesh;
 
-use crate::adapt::{apply_edit, Transfer};
-use crate::cloth::Cloth;
-use crate::collision::Obstacles;
+use crate::adapt::EditTarget;
 use crate::math::Real;
-use crate::mesh::{EdgeKey, EditError, EditRecord, FaceId, Mesh};
+use crate::mesh::{EdgeKey, EditError, EditRecord, FaceId};
 use crate::scene::AdaptivitySpec;
 
 /// Refine (finer mesh in the hole) or simplify (coarser).
@@ -162,32 +161,20 @@ pub enum RemeshError {
     Edit(#[from] EditError),
 }
 
-/// Re-meshes the region of `edges` in `mode` on the mesh alone (property tests of the topology).
-pub fn remesh_mesh(
-    mesh: &mut Mesh,
+/// Re-meshes the region of `edges` in `mode` through an [`EditTarget`]: the bare mesh (property
+/// tests of the topology) or the cloth through the state-transfer service
+/// ([`crate::adapt::ClothTarget`]: new vertices interpolated barycentrically, pushed out of the
+/// obstacles, masses recomputed, momentum and energy restored as its options say). The target is
+/// untouched on error. On a cloth, call [`crate::cloth::Cloth::refresh`] before the next force
+/// evaluation.
+pub fn remesh_region<T: EditTarget + ?Sized>(
+    target: &mut T,
     edges: &[EdgeKey],
     mode: Mode,
     params: &RemeshParams,
 ) -> Result<(EditRecord, RemeshStats), RemeshError> {
-    let faces = region_faces(mesh, edges)?;
-    let plan = plan_region(mesh, &faces, mode, params)?;
-    let record = mesh.replace(&plan.edit)?;
+    let faces = region_faces(target.mesh(), edges)?;
+    let plan = plan_region(target.mesh(), &faces, mode, params)?;
+    let record = target.apply(&plan.edit)?;
     Ok((record, plan.stats))
-}
-
-/// Re-meshes the region of `edges` in `mode` on the cloth through [`apply_edit`]: new vertices
-/// interpolated barycentrically, pushed out of `obstacles`, masses recomputed, momentum restored
-/// when `restore_momentum`. Call [`Cloth::refresh`] before the next force evaluation.
-pub fn remesh_cloth(
-    cloth: &mut Cloth,
-    edges: &[EdgeKey],
-    mode: Mode,
-    params: &RemeshParams,
-    obstacles: Option<&Obstacles>,
-    restore_momentum: bool,
-) -> Result<(Transfer, RemeshStats), RemeshError> {
-    let faces = region_faces(&cloth.mesh, edges)?;
-    let plan = plan_region(&cloth.mesh, &faces, mode, params)?;
-    let transfer = apply_edit(cloth, &plan.edit, obstacles, restore_momentum)?;
-    Ok((transfer, plan.stats))
 }

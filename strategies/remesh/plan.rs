@@ -1,6 +1,6 @@
 //! The elementary operation: plan the re-meshing of one region as a single [`Edit`] (MODEL.md
-//! §8.2 steps 3-6). Nothing here changes the mesh; [`super::remesh_mesh`] and
-//! [`super::remesh_cloth`] apply the plan through the checked edit.
+//! §8.2 steps 3-6). Nothing here changes the mesh; [`super::remesh_region`] applies the
+//! plan through the checked edit.
 
 use super::hole::{mesh_hole, min_angle, HoleMesh, HoleParams};
 use super::region::{hole_border, interior_vertices, BorderEdge};

@@ -2,9 +2,9 @@
 //! bookkeeping: the time each edge was made by a refinement, for the simplification hysteresis
 //! (`t_simplify`) and the 10 % smoothing rule of the shared criteria.
 
-use super::{components, remesh_cloth, Mode, RemeshParams};
+use super::{components, remesh_region, Mode, RemeshParams};
 use crate::adapt::criteria::{select, EdgeInfo};
-use crate::adapt::{AdaptContext, AdaptError, AdaptReport, Adaptivity};
+use crate::adapt::{AdaptContext, AdaptError, AdaptReport, Adaptivity, ClothTarget};
 use crate::cloth::Cloth;
 use crate::math::Real;
 use crate::mesh::{EdgeKey, FaceId, Mesh, VertexKey};
@@ -32,8 +32,6 @@ pub struct RemeshCounters {
 pub struct Remesh {
     /// Simulated time (s) at which each edge (by its vertices' keys) was created by a refinement.
     refined_at: BTreeMap<(VertexKey, VertexKey), Real>,
-    /// Time of the last criteria evaluation (s).
-    last_evaluation: Option<Real>,
     /// What the strategy did so far.
     pub counters: RemeshCounters,
 }
@@ -82,40 +80,31 @@ impl Remesh {
         });
     }
 
-    /// Re-meshes one component; a refusal leaves the cloth as it was and is counted.
-    #[allow(clippy::too_many_arguments)]
+    /// Re-meshes one component through the shared edit target; a refusal leaves the cloth as it
+    /// was and is counted.
     fn apply(
         &mut self,
-        cloth: &mut Cloth,
-        ctx: &AdaptContext,
+        target: &mut ClothTarget,
+        now: Real,
         edges: &[EdgeKey],
         mode: Mode,
         params: &RemeshParams,
         fresh: &mut BTreeSet<FaceId>,
-        report: &mut AdaptReport,
     ) {
-        match remesh_cloth(
-            cloth,
-            edges,
-            mode,
-            params,
-            Some(ctx.obstacles),
-            ctx.spec.restore_momentum,
-        ) {
-            Ok((transfer, stats)) => {
-                report.add(&transfer);
-                fresh.extend(transfer.record.added_faces.iter().copied());
+        match remesh_region(target, edges, mode, params) {
+            Ok((record, stats)) => {
+                fresh.extend(record.added_faces.iter().copied());
                 self.counters.small_angle += stats.small_angle;
                 self.counters.added_faces += stats.added_faces;
                 match mode {
                     Mode::Refine => {
                         self.counters.refined += 1;
-                        let mesh = &cloth.mesh;
-                        for &f in &transfer.record.added_faces {
+                        let mesh = &target.cloth.mesh;
+                        for &f in &record.added_faces {
                             let vs = mesh.face(f);
                             for k in 0..3 {
                                 let e = EdgeKey::new(vs[k], vs[(k + 1) % 3]);
-                                self.refined_at.insert(edge_keys(mesh, e), ctx.time);
+                                self.refined_at.insert(edge_keys(mesh, e), now);
                             }
                         }
                     }
@@ -137,12 +126,6 @@ impl Adaptivity for Remesh {
 
     fn adapt(&mut self, cloth: &mut Cloth, ctx: &AdaptContext) -> Result<AdaptReport, AdaptError> {
         let spec = ctx.spec;
-        if let Some(t0) = self.last_evaluation {
-            if ctx.time - t0 < spec.interval * (1.0 - 1e-9) {
-                return Ok(AdaptReport::default());
-            }
-        }
-        self.last_evaluation = Some(ctx.time);
         self.prune(&cloth.mesh, ctx.time, spec.t_simplify);
         let selection = select(
             cloth,
@@ -155,19 +138,12 @@ impl Adaptivity for Remesh {
             },
         );
         let params = RemeshParams::from_spec(spec);
-        let mut report = AdaptReport::default();
+        let mut target = ctx.edit_target(cloth);
         let mut fresh = BTreeSet::new();
         let refine: Vec<EdgeKey> = selection.refine.iter().map(|(e, _)| *e).collect();
-        for group in components(&cloth.mesh, &refine) {
-            self.apply(
-                cloth,
-                ctx,
-                &group,
-                Mode::Refine,
-                &params,
-                &mut fresh,
-                &mut report,
-            );
+        for group in components(&target.cloth.mesh, &refine) {
+            let mode = Mode::Refine;
+            self.apply(&mut target, ctx.time, &group, mode, &params, &mut fresh);
         }
         // Simplify only what this pass did not just re-mesh.
         let simplify: Vec<EdgeKey> = selection
@@ -175,23 +151,17 @@ impl Adaptivity for Remesh {
             .iter()
             .copied()
             .filter(|e| {
-                cloth
+                target
+                    .cloth
                     .mesh
                     .edge(e.0, e.1)
                     .is_some_and(|ef| ef.iter().all(|f| !fresh.contains(&f)))
             })
             .collect();
-        for group in components(&cloth.mesh, &simplify) {
-            self.apply(
-                cloth,
-                ctx,
-                &group,
-                Mode::Simplify,
-                &params,
-                &mut fresh,
-                &mut report,
-            );
+        for group in components(&target.cloth.mesh, &simplify) {
+            let mode = Mode::Simplify;
+            self.apply(&mut target, ctx.time, &group, mode, &params, &mut fresh);
         }
-        Ok(report)
+        Ok(target.report)
     }
 }

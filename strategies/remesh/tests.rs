@@ -2,9 +2,10 @@
 //! strategy's bookkeeping, and property tests over random grids and random operation sequences.
 
 use super::*;
-use crate::adapt::Adaptivity;
+use crate::adapt::{Adaptivity, ClothTarget, TransferOptions};
+use crate::cloth::Cloth;
 use crate::math::{Vec2, Vec3};
-use crate::mesh::{union_jack, Origin, VertexId, VertexKey};
+use crate::mesh::{union_jack, Mesh, Origin, VertexId, VertexKey};
 use crate::scene::{ForcesSpec, MaterialSpec};
 use proptest::prelude::*;
 use std::collections::BTreeSet;
@@ -63,7 +64,7 @@ fn refining_an_interior_edge_makes_a_finer_conforming_region() {
     let area = rest_area(&mesh);
     // (1,1)-(2,2) = 6-12, a diagonal of the 5x5 grid.
     let before = mean_length(&mesh, region_faces(&mesh, &[e(6, 12)]).unwrap());
-    let (record, stats) = remesh_mesh(&mut mesh, &[e(6, 12)], Mode::Refine, &params(4)).unwrap();
+    let (record, stats) = remesh_region(&mut mesh, &[e(6, 12)], Mode::Refine, &params(4)).unwrap();
     mesh.check().unwrap();
     assert!((rest_area(&mesh) - area).abs() <= 1e-12 * area);
     assert!(!record.added_vertices.is_empty());
@@ -76,7 +77,7 @@ fn refining_an_interior_edge_makes_a_finer_conforming_region() {
 fn refining_at_the_cloth_border_bisects_border_edges() {
     let mut mesh = union_jack(3, 3, 1.0, 1.0);
     // Edge 0-1 lies on the cloth border v = 0.
-    let (record, stats) = remesh_mesh(&mut mesh, &[e(0, 1)], Mode::Refine, &params(2)).unwrap();
+    let (record, stats) = remesh_region(&mut mesh, &[e(0, 1)], Mode::Refine, &params(2)).unwrap();
     mesh.check().unwrap();
     assert!(stats.border_splits >= 1, "{stats:?}");
     let mid = record
@@ -101,7 +102,7 @@ fn simplifying_a_refined_patch_coarsens_it_and_keeps_corners_and_pins() {
     let all: Vec<EdgeKey> = mesh.edges().map(|(k, _)| k).collect();
     let vertices = mesh.vertex_count();
     let before = mean_length(&mesh, mesh.faces().collect::<Vec<_>>());
-    let (record, stats) = remesh_mesh(&mut mesh, &all, Mode::Simplify, &p).unwrap();
+    let (record, stats) = remesh_region(&mut mesh, &all, Mode::Simplify, &p).unwrap();
     mesh.check().unwrap();
     assert!(mesh.vertex_count() < vertices, "{stats:?}");
     assert!(!record.removed_vertices.is_empty());
@@ -136,7 +137,7 @@ fn region_around_a_kept_island_is_remeshed_as_an_annulus() {
     let faces = region_faces(&mesh, &ring).unwrap();
     assert!(faces.is_disjoint(&island));
     let area = rest_area(&mesh);
-    remesh_mesh(&mut mesh, &ring, Mode::Refine, &params(6)).unwrap();
+    remesh_region(&mut mesh, &ring, Mode::Refine, &params(6)).unwrap();
     mesh.check().unwrap();
     assert!((rest_area(&mesh) - area).abs() <= 1e-12 * area);
     for f in island {
@@ -149,7 +150,7 @@ fn refusals_leave_the_mesh_untouched() {
     let mut mesh = union_jack(4, 4, 1.0, 1.0);
     let copy = mesh.clone();
     assert_eq!(
-        remesh_mesh(&mut mesh, &[e(0, 15)], Mode::Refine, &params(3)).unwrap_err(),
+        remesh_region(&mut mesh, &[e(0, 15)], Mode::Refine, &params(3)).unwrap_err(),
         RemeshError::NoSuchEdge(e(0, 15))
     );
     // A floor above every possible new edge: refining can never be accepted.
@@ -157,7 +158,7 @@ fn refusals_leave_the_mesh_untouched() {
         l_min: 10.0,
         ..params(3)
     };
-    let err = remesh_mesh(&mut mesh, &[e(5, 10)], Mode::Refine, &p).unwrap_err();
+    let err = remesh_region(&mut mesh, &[e(5, 10)], Mode::Refine, &p).unwrap_err();
     assert!(matches!(err, RemeshError::NoAcceptableMesh(_)), "{err}");
     assert_eq!(mesh, copy);
 }
@@ -170,17 +171,20 @@ fn components_join_edges_sharing_a_face_only() {
     assert_eq!(groups, vec![vec![e(0, 1), e(1, 6)], vec![e(18, 19)]]);
 }
 
-#[test]
-fn refined_edges_age_and_are_forgotten_after_t_simplify() {
+/// A flat 5 x 5 cloth of 1 m with edge 6-7 compressed to 50 % (refinement by compression), no
+/// obstacle, and a remesh run of `spec` adapting it at t = 1 s.
+fn adapt_compressed(
+    spec: &crate::scene::AdaptivitySpec,
+    velocity: impl Fn(Vec3) -> Vec3,
+) -> (Remesh, Cloth, crate::adapt::AdaptReport) {
     use crate::adapt::AdaptContext;
     use crate::collision::Obstacles;
-    use crate::scene::{AdaptivitySpec, CollisionSpec};
+    use crate::scene::CollisionSpec;
     let mesh = union_jack(5, 5, 1.0, 1.0);
     let mut x: Vec<Vec3> = mesh
         .vertices()
         .map(|v| Vec3::new(mesh.rest(v).x, mesh.rest(v).y, 0.0))
         .collect();
-    // Compress edge 6-7 to 50 %: refinement by compression.
     x[7] = x[6] + (x[7] - x[6]) * 0.5;
     let mut cloth = Cloth::new(
         mesh,
@@ -189,21 +193,30 @@ fn refined_edges_age_and_are_forgotten_after_t_simplify() {
         &MaterialSpec::default(),
         &ForcesSpec::default(),
     );
+    for i in 0..cloth.x.len() {
+        cloth.v[i] = velocity(cloth.x[i]);
+    }
     let obstacles =
         Obstacles::build(&[], &CollisionSpec::default(), std::path::Path::new(".")).unwrap();
-    let spec = AdaptivitySpec {
-        strategy: "remesh".into(),
-        ..AdaptivitySpec::default()
-    };
     let mut s = Remesh::new();
     let ctx = AdaptContext {
         obstacles: &obstacles,
         time: 1.0,
-        spec: &spec,
+        spec,
     };
     let report = s.adapt(&mut cloth, &ctx).unwrap();
     cloth.refresh();
     cloth.mesh.check().unwrap();
+    (s, cloth, report)
+}
+
+#[test]
+fn refined_edges_age_and_are_forgotten_after_t_simplify() {
+    let spec = crate::scene::AdaptivitySpec {
+        strategy: "remesh".into(),
+        ..Default::default()
+    };
+    let (mut s, cloth, report) = adapt_compressed(&spec, |_| Vec3::zeros());
     assert!(s.counters.refined >= 1, "{:?}", s.counters);
     assert!(report.vertices_added > 0);
     let new = cloth.mesh.vertices().last().unwrap();
@@ -214,6 +227,28 @@ fn refined_edges_age_and_are_forgotten_after_t_simplify() {
     assert!((age - 0.05).abs() < 1e-12, "{age}");
     s.prune(&cloth.mesh, 1.0 + spec.t_simplify, spec.t_simplify);
     assert_eq!(s.age(&cloth.mesh, edge, 1.2), None);
+}
+
+/// `restore_energy` means for remesh what it means for every strategy: the shared transfer
+/// gives the re-meshed region back the kinetic energy that averaging velocities lost.
+#[test]
+fn restore_energy_keeps_the_kinetic_energy_of_a_remeshed_region() {
+    let swirl = |x: Vec3| Vec3::new((7.0 * x.y).sin(), (5.0 * x.x).cos(), x.x * x.y);
+    let mut spec = crate::scene::AdaptivitySpec {
+        strategy: "remesh".into(),
+        ..Default::default()
+    };
+    let (_, cloth, lost) = adapt_compressed(&spec, swirl);
+    let energy = cloth.kinetic_energy();
+    assert!(lost.events > 0);
+    assert!(lost.kinetic_energy_change < -1e-6 * energy, "{lost:?}");
+    spec.restore_energy = true;
+    let (_, _, kept) = adapt_compressed(&spec, swirl);
+    assert_eq!(kept.events, lost.events);
+    assert!(
+        kept.kinetic_energy_change.abs() <= 1e-12 * energy,
+        "{kept:?}"
+    );
 }
 
 // ----- property tests -----
@@ -387,18 +422,20 @@ proptest! {
             let before = mean_length(&cloth.mesh, region.iter().copied());
             let mesh_before = cloth.mesh.clone();
             let x_before = cloth.x.clone();
-            match remesh_cloth(&mut cloth, &edges, mode, &p, None, true) {
-                Ok((transfer, stats)) => {
+            let options = TransferOptions { restore_momentum: true, ..TransferOptions::default() };
+            let result = remesh_region(&mut ClothTarget::new(&mut cloth, options), &edges, mode, &p);
+            match result {
+                Ok((record, stats)) => {
                     applied += 1;
                     cloth.refresh();
                     prop_assert!(cloth.mesh.check().is_ok(), "{:?}", cloth.mesh.check());
-                    let after = mean_length(&cloth.mesh, transfer.record.added_faces.iter().copied());
+                    let after = mean_length(&cloth.mesh, record.added_faces.iter().copied());
                     match mode {
                         Mode::Refine => prop_assert!(after < before, "refine {} -> {}", before, after),
                         Mode::Simplify => prop_assert!(after > before, "simplify {} -> {}", before, after),
                     }
                     let (small, interior, border) =
-                        angle_census(&mesh_before, &cloth.mesh, &transfer.record, p.angle_limit_deg);
+                        angle_census(&mesh_before, &cloth.mesh, &record, p.angle_limit_deg);
                     prop_assert_eq!(interior, 0, "{:?}", stats);
                     prop_assert!(small <= border, "{} small-angle triangles, {} border edges {:?}",
                         small, border, stats);
@@ -454,7 +491,7 @@ fn region_with_two_border_loops_keeps_its_island() {
     let area = rest_area(&mesh);
     for mode in [Mode::Refine, Mode::Simplify] {
         let mut m = mesh.clone();
-        let result = remesh_mesh(&mut m, &band, mode, &params(8));
+        let result = remesh_region(&mut m, &band, mode, &params(8));
         if mode == Mode::Refine {
             result.as_ref().expect("refining the band");
         }

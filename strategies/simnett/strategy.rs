@@ -1,5 +1,6 @@
 //! The `simnett` strategy: the shared criteria (MODEL.md §7) drive splits and merges of the
-//! hierarchy (MODEL.md §8.3), every edit applied through [`crate::adapt::apply_edit`].
+//! hierarchy (MODEL.md §8.3), every edit applied through the shared state-transfer service
+//! ([`crate::adapt::ClothTarget`]).
 //!
 //! Per call: the criteria evaluate every mesh edge, with this strategy's [`EdgeInfo`] (the age of
 //! an edge since its parent was split, and the curvature limit `acos(cos_refine depth_factor^d)`
@@ -15,7 +16,6 @@ use super::hierarchy::{EdgeRole, Hierarchy};
 use super::ops::{OpError, OpRecord};
 use crate::adapt::RefineReason;
 use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
-use crate::adapt::{ClothTarget, TransferOptions};
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::Real;
@@ -101,14 +101,7 @@ impl Adaptivity for Simnett {
         if sel.refine.is_empty() && sel.simplify.is_empty() {
             return Ok(AdaptReport::default());
         }
-        let mut target = ClothTarget::new(
-            cloth,
-            TransferOptions {
-                obstacles: Some(ctx.obstacles),
-                restore_momentum: spec.restore_momentum,
-                restore_energy: spec.restore_energy,
-            },
-        );
+        let mut target = ctx.edit_target(cloth);
         for (e, reason) in sel.refine {
             let x = &target.cloth.x;
             let length = (x[e.1 .0 as usize] - x[e.0 .0 as usize]).norm();
