@@ -1,9 +1,11 @@
-//! The plots of one comparison, written into its folder: speed against error, element counts,
+//! The plots of one comparison, written into its folder: speed against error (e_rms and
+//! Hausdorff), element counts,
 //! step and its limits, the tracked point, and `e(t)`.
 
-use super::plots::{self, Panel, Series, SpeedPoint};
+use super::plots::{self, Panel, Series};
+use super::reading::{curves, integrators, Metric};
+use super::speed_plot::{speed_error, SpeedCurve, SpeedPanel};
 use super::ReportError;
-use crate::eval::metrics::pareto_front;
 use crate::io::read_numeric_csv;
 use crate::study::{Comparison, Row};
 use std::path::{Path, PathBuf};
@@ -26,6 +28,42 @@ fn metric_series(out: &Path, c: &Comparison, column: &str) -> Vec<Series> {
         .collect()
 }
 
+/// What varies along a curve at one run: the grid for static runs, else the start grid and the
+/// swept values (the label without its series and integrator).
+fn tag(r: &Row) -> String {
+    if r.strategy == "static" {
+        return r.resolution.to_string();
+    }
+    let rest = r
+        .label
+        .strip_prefix(&format!("{}-", r.series))
+        .unwrap_or(&r.label);
+    rest.replacen(&format!("-{}", r.integrator), "", 1)
+}
+
+/// The speed-error panels of a comparison in `metric`: one per integrator, one curve per series.
+fn speed_panels(c: &Comparison, metric: Metric) -> Vec<SpeedPanel> {
+    integrators(c)
+        .into_iter()
+        .map(|integrator| SpeedPanel {
+            title: integrator.to_string(),
+            curves: curves(c, integrator)
+                .iter()
+                .map(|k| SpeedCurve {
+                    label: k.series.to_string(),
+                    is_static: k.is_static(),
+                    points: k
+                        .rows
+                        .iter()
+                        .map(|r| (r.wall_s, metric.of(r), tag(r)))
+                        .collect(),
+                })
+                .collect(),
+            floor: Some(metric.floor(c)),
+        })
+        .collect()
+}
+
 /// The plots of a comparison, written into `out`.
 pub fn write_plots(
     out: &Path,
@@ -42,31 +80,21 @@ pub fn write_plots(
             files.push((name.to_string(), svg.clone(), png.clone()));
         }
     };
-    let completed: Vec<&Row> = c.rows.iter().filter(|r| r.completed()).collect();
-    let points: Vec<SpeedPoint> = completed
-        .iter()
-        .map(|r| SpeedPoint {
-            label: r.label.clone(),
-            wall_s: r.wall_s,
-            error: r.e_rms,
-            is_static: r.strategy == "static",
-        })
-        .collect();
-    let pairs: Vec<(f64, f64)> = points.iter().map(|p| (p.wall_s, p.error)).collect();
-    let front = pareto_front(&pairs);
-    let f = plots::speed_error(
-        &out.join("speed_error"),
-        &format!(
-            "{}: wall time vs error (reference {}x{})",
-            m.scene, m.reference.resolution, m.reference.resolution
-        ),
-        "e_rms",
-        &points,
-        &front,
-        Some(m.reference.floor.e_rms),
-    )
-    .map_err(plot_err)?;
-    push("speed_error", f);
+    for (name, metric) in [
+        ("speed_error", Metric::Rms),
+        ("speed_hausdorff", Metric::Hausdorff),
+    ] {
+        let title = format!(
+            "{}: wall time vs {} (reference {}x{})",
+            m.scene,
+            metric.name(),
+            m.reference.resolution,
+            m.reference.resolution
+        );
+        let panels = speed_panels(c, metric);
+        let f = speed_error(&out.join(name), &title, metric.name(), &panels).map_err(plot_err)?;
+        push(name, f);
+    }
 
     let elements = vec![
         Panel {

@@ -5,7 +5,7 @@
 //!   snapshots. Every number comes from the comparison's rows and runs.
 //! - [`tables`], [`reading`]: the markdown tables and the computed reading (speed-up at equal
 //!   error, where the time goes).
-//! - [`comparison_plots`] over [`plots`] (plotters with the embedded DejaVu font).
+//! - [`comparison_plots`] over [`speed_plot`] and [`plots`] (plotters, embedded DejaVu font).
 //! - [`results`]: `docs/results.md` over several scenes.
 //! - [`pictures`]: snapshots and the HTML report of a comparison, over [`render`] (the software
 //!   rasteriser) and [`html`] (the self-contained `report.html` with its 3D replay).
@@ -17,6 +17,7 @@ pub mod plots;
 pub mod reading;
 pub mod render;
 pub mod results;
+pub mod speed_plot;
 pub mod tables;
 
 pub use results::write_docs;
@@ -110,12 +111,12 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
                 reading::reading(c),
                 tables::profile(c)
             ),
-            images: plots.iter().take(1).map(|p| p.1.clone()).collect(),
+            images: plots.iter().take(2).map(|p| p.1.clone()).collect(),
         },
         Section {
             title: "Time series".into(),
             markdown: String::new(),
-            images: plots.iter().skip(1).map(|p| p.1.clone()).collect(),
+            images: plots.iter().skip(2).map(|p| p.1.clone()).collect(),
         },
         Section {
             title: "Snapshots".into(),

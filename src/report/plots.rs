@@ -1,6 +1,7 @@
-//! Plots of a comparison (plotters, SVG and PNG, fonts from the embedded DejaVu Sans so no system
-//! font library is needed): speed against error with the Pareto front and the reference floor,
-//! and time series (any quantity over simulated time, one line per run, one or more panels).
+//! Plots (plotters, SVG and PNG, fonts from the embedded DejaVu Sans so no system font library is
+//! needed): the shared helpers (fonts, colours, log ticks, ranges) and time series (any quantity
+//! over simulated time, one line per run, one or more panels). The speed-error plot is
+//! [`super::speed_plot`].
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -17,7 +18,7 @@ pub struct PlotError {
     pub message: String,
 }
 
-fn register_fonts() {
+pub(crate) fn register_fonts() {
     static ONCE: Once = Once::new();
     ONCE.call_once(|| {
         let _ = plotters::style::register_font(
@@ -26,19 +27,6 @@ fn register_fonts() {
             dejavu::sans::regular(),
         );
     });
-}
-
-/// One configuration on the speed-error plot.
-#[derive(Clone, Debug)]
-pub struct SpeedPoint {
-    /// Label.
-    pub label: String,
-    /// Wall time (s).
-    pub wall_s: f64,
-    /// Error (m).
-    pub error: f64,
-    /// Whether it is a static-mesh run (drawn as circles; adaptive ones as triangles).
-    pub is_static: bool,
 }
 
 /// One line of a time series.
@@ -65,7 +53,7 @@ pub struct Panel {
     pub hline: Option<(String, f64)>,
 }
 
-fn color(i: usize) -> RGBColor {
+pub(crate) fn color(i: usize) -> RGBColor {
     const C: [RGBColor; 10] = [
         RGBColor(31, 119, 180),
         RGBColor(255, 127, 14),
@@ -81,7 +69,7 @@ fn color(i: usize) -> RGBColor {
     C[i % C.len()]
 }
 
-fn err(path: &Path, e: impl std::fmt::Display) -> PlotError {
+pub(crate) fn err(path: &Path, e: impl std::fmt::Display) -> PlotError {
     PlotError {
         path: path.display().to_string(),
         message: e.to_string(),
@@ -101,7 +89,7 @@ fn at_1_2_5(v: f64) -> bool {
 
 /// A tick label on a log axis: only at 1, 2 and 5 times a power of ten (others left blank so the
 /// labels do not collide).
-fn log_tick(v: f64) -> String {
+pub(crate) fn log_tick(v: f64) -> String {
     if !at_1_2_5(v) {
         String::new()
     } else if v >= 1.0 {
@@ -113,7 +101,7 @@ fn log_tick(v: f64) -> String {
 }
 
 /// [`log_tick`] in scientific notation (errors in metres).
-fn log_tick_sci(v: f64) -> String {
+pub(crate) fn log_tick_sci(v: f64) -> String {
     if at_1_2_5(v) {
         format!("{v:.0e}")
     } else {
@@ -122,7 +110,7 @@ fn log_tick_sci(v: f64) -> String {
 }
 
 /// Log-axis range covering `values` (positive, finite), padded by a factor.
-fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+pub(crate) fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
     for v in values.filter(|v| v.is_finite() && *v > 0.0) {
         lo = lo.min(v);
@@ -137,7 +125,7 @@ fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo / 1.6, hi * 1.6)
 }
 
-fn lin_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
+pub(crate) fn lin_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite()) {
         lo = lo.min(v);
@@ -150,138 +138,8 @@ fn lin_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// Draws the speed-error plot to `stem.svg` and `stem.png`: wall time against error, log-log,
-/// a labelled marker per configuration, the Pareto front as a line, the floor as a dashed line.
-/// Returns the files written.
-pub fn speed_error(
-    stem: &Path,
-    title: &str,
-    error_name: &str,
-    points: &[SpeedPoint],
-    front: &[usize],
-    floor: Option<f64>,
-) -> Result<Vec<PathBuf>, PlotError> {
-    register_fonts();
-    let svg = stem.with_extension("svg");
-    let png = stem.with_extension("png");
-    {
-        let root = SVGBackend::new(&svg, (860, 560)).into_drawing_area();
-        draw_speed(&root, title, error_name, points, front, floor).map_err(|e| err(&svg, e))?;
-        root.present().map_err(|e| err(&svg, e))?;
-    }
-    {
-        let root = BitMapBackend::new(&png, (860, 560)).into_drawing_area();
-        draw_speed(&root, title, error_name, points, front, floor).map_err(|e| err(&png, e))?;
-        root.present().map_err(|e| err(&png, e))?;
-    }
-    Ok(vec![svg, png])
-}
-
-type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
-
-fn draw_speed<DB: DrawingBackend>(
-    root: &DrawingArea<DB, Shift>,
-    title: &str,
-    error_name: &str,
-    points: &[SpeedPoint],
-    front: &[usize],
-    floor: Option<f64>,
-) -> DrawResult<DB> {
-    root.fill(&WHITE)?;
-    let ok: Vec<&SpeedPoint> = points
-        .iter()
-        .filter(|p| p.wall_s > 0.0 && p.error > 0.0 && p.wall_s.is_finite() && p.error.is_finite())
-        .collect();
-    let (x0, x1) = log_range(ok.iter().map(|p| p.wall_s));
-    // Room on the right for the slowest run's label.
-    let x1 = x1 * 2.0;
-    let (y0, y1) = log_range(ok.iter().map(|p| p.error).chain(floor));
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(75)
-        .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("wall time (s)")
-        .y_desc(format!("{error_name} (m)"))
-        .label_style(("sans-serif", 13))
-        .axis_desc_style(("sans-serif", 15))
-        .x_label_formatter(&|v| log_tick(*v))
-        .y_label_formatter(&|v| log_tick_sci(*v))
-        .draw()?;
-    if let Some(f) = floor.filter(|f| *f > 0.0 && f.is_finite()) {
-        let style = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
-        // Dashed: short segments.
-        let n = 40;
-        let lx0 = x0.ln();
-        let lx1 = x1.ln();
-        let segs: Vec<Vec<(f64, f64)>> = (0..n)
-            .filter(|k| k % 2 == 0)
-            .map(|k| {
-                let a = (lx0 + (lx1 - lx0) * k as f64 / n as f64).exp();
-                let b = (lx0 + (lx1 - lx0) * (k + 1) as f64 / n as f64).exp();
-                vec![(a, f), (b, f)]
-            })
-            .collect();
-        for (k, s) in segs.into_iter().enumerate() {
-            let series = chart.draw_series(LineSeries::new(s, style))?;
-            if k == 0 {
-                series
-                    .label(format!("reference floor {f:.2e} m"))
-                    .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
-            }
-        }
-    }
-    let front_pts: Vec<(f64, f64)> = front
-        .iter()
-        .filter_map(|&i| points.get(i))
-        .map(|p| (p.wall_s, p.error))
-        .collect();
-    if front_pts.len() >= 2 {
-        let style = ShapeStyle::from(&BLACK).stroke_width(2);
-        chart
-            .draw_series(LineSeries::new(front_pts, style))?
-            .label("Pareto front")
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], style));
-    }
-    for (i, p) in points.iter().enumerate() {
-        if !(p.wall_s > 0.0 && p.error > 0.0 && p.wall_s.is_finite() && p.error.is_finite()) {
-            continue;
-        }
-        let c = color(i);
-        let style = ShapeStyle::from(&c).filled();
-        let pt = (p.wall_s, p.error);
-        if p.is_static {
-            chart
-                .draw_series(std::iter::once(Circle::new(pt, 6, style)))?
-                .label(p.label.clone())
-                .legend(move |(x, y)| Circle::new((x + 9, y), 5, style));
-        } else {
-            chart
-                .draw_series(std::iter::once(TriangleMarker::new(pt, 8, style)))?
-                .label(p.label.clone())
-                .legend(move |(x, y)| TriangleMarker::new((x + 9, y), 6, style));
-        }
-        chart.draw_series(std::iter::once(
-            EmptyElement::at(pt)
-                + Text::new(
-                    p.label.clone(),
-                    (8, -16),
-                    ("sans-serif", 12).into_font().color(&c),
-                ),
-        ))?;
-    }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .label_font(("sans-serif", 13))
-        .position(SeriesLabelPosition::UpperRight)
-        .draw()?;
-    Ok(())
-}
+pub(crate) type DrawResult<DB> =
+    Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
 
 /// Draws a figure of stacked panels sharing the time axis to `stem.svg` and `stem.png`.
 pub fn time_series(stem: &Path, title: &str, panels: &[Panel]) -> Result<Vec<PathBuf>, PlotError> {
@@ -417,34 +275,8 @@ mod tests {
     use super::*;
 
     #[test]
-    fn plots_are_written_without_system_fonts() {
+    fn time_series_are_written_without_system_fonts() {
         let dir = tempfile::tempdir().unwrap();
-        let pts = vec![
-            SpeedPoint {
-                label: "a".into(),
-                wall_s: 1.0,
-                error: 0.1,
-                is_static: true,
-            },
-            SpeedPoint {
-                label: "b".into(),
-                wall_s: 10.0,
-                error: 0.01,
-                is_static: false,
-            },
-        ];
-        let files = speed_error(
-            &dir.path().join("se"),
-            "t",
-            "e_rms",
-            &pts,
-            &[0, 1],
-            Some(0.005),
-        )
-        .unwrap();
-        for f in files {
-            assert!(std::fs::metadata(&f).unwrap().len() > 1000, "{f:?}");
-        }
         let panel = Panel {
             y_label: "y".into(),
             log_y: true,

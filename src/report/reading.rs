@@ -1,230 +1,376 @@
-//! The computed reading of a comparison: the speed-up of each adaptive run over the static mesh
-//! at equal error (log-log interpolation along the static Pareto front), whether the reference
-//! resolves it, the verdict, and why a strategy loses (stage times, steps, vertices). Nothing here
-//! is written by hand: it changes when the runs change.
+//! The computed reading of a comparison. Runs are grouped into **curves**: one per series (a
+//! strategy, or a study run's label) and integrator, through its configurations (static: the grid
+//! resolutions; adaptive: its sweep). Each curve is compared with the static curve of the same
+//! integrator at the errors of static 17x17 and 33x33 (the two finest static grids when those are
+//! missing), for the material-point error `e_rms` and the fold-insensitive surface distance
+//! (Hausdorff) alike: speed-up = static wall time / the curve's wall time at that error (log-log
+//! interpolation along the curve's Pareto front). Errors within 2x of the reference floor are
+//! flagged as not resolved. Nothing here is written by hand: it changes when the runs change.
 
 use super::tables::{fmt_e, fmt_s};
-use crate::eval::metrics::static_time_at_error;
+use crate::eval::metrics::{pareto_front, static_time_at_error};
 use crate::study::{Comparison, Row};
 use std::fmt::Write as _;
 use std::path::PathBuf;
 
-fn static_rows(c: &Comparison) -> Vec<&Row> {
-    c.rows
+/// An error measure of the comparison.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Metric {
+    /// RMS over frames of the material-point error `e(t)`.
+    Rms,
+    /// Hausdorff distance between the final surfaces.
+    Hausdorff,
+}
+
+impl Metric {
+    /// Both measures, in report order.
+    pub const ALL: [Metric; 2] = [Metric::Rms, Metric::Hausdorff];
+
+    /// Its name in tables and plots.
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::Rms => "e_rms",
+            Metric::Hausdorff => "Hausdorff",
+        }
+    }
+
+    /// Its value for a run (m).
+    pub fn of(self, r: &Row) -> f64 {
+        match self {
+            Metric::Rms => r.e_rms,
+            Metric::Hausdorff => r.hausdorff,
+        }
+    }
+
+    /// The reference floor of this measure (m).
+    pub fn floor(self, c: &Comparison) -> f64 {
+        let f = &c.manifest.reference.floor;
+        match self {
+            Metric::Rms => f.e_rms,
+            Metric::Hausdorff => f.hausdorff,
+        }
+    }
+}
+
+/// One curve: the completed runs of a series under one integrator, by increasing wall time.
+#[derive(Clone, Debug)]
+pub struct Curve<'a> {
+    /// The series (a strategy, or a study run's label).
+    pub series: &'a str,
+    /// Its strategy.
+    pub strategy: &'a str,
+    /// The integrator.
+    pub integrator: &'a str,
+    /// Its completed runs, fastest first.
+    pub rows: Vec<&'a Row>,
+}
+
+impl Curve<'_> {
+    /// Whether this is a static-mesh curve.
+    pub fn is_static(&self) -> bool {
+        self.strategy == "static"
+    }
+}
+
+/// The integrators of a comparison, in the order runs first use them.
+pub fn integrators(c: &Comparison) -> Vec<&str> {
+    let mut out: Vec<&str> = Vec::new();
+    for r in &c.rows {
+        if !out.contains(&r.integrator.as_str()) {
+            out.push(&r.integrator);
+        }
+    }
+    out
+}
+
+/// The curves of one integrator: static first, then the others in the order they first appear.
+pub fn curves<'a>(c: &'a Comparison, integrator: &str) -> Vec<Curve<'a>> {
+    let mut out: Vec<Curve<'a>> = Vec::new();
+    for r in c
+        .rows
         .iter()
-        .filter(|r| r.strategy == "static" && r.completed())
-        .collect()
+        .filter(|r| r.integrator == integrator && r.completed())
+    {
+        match out.iter_mut().find(|k| k.series == r.series) {
+            Some(k) => k.rows.push(r),
+            None => out.push(Curve {
+                series: &r.series,
+                strategy: &r.strategy,
+                integrator: &r.integrator,
+                rows: vec![r],
+            }),
+        }
+    }
+    for k in &mut out {
+        k.rows.sort_by(|a, b| a.wall_s.total_cmp(&b.wall_s));
+    }
+    out.sort_by_key(|k| !k.is_static());
+    out
 }
 
-/// The wall time (s) the static mesh needs for `r`'s e_rms, by log-log interpolation along the
-/// static runs' Pareto front; `None` when the front does not bracket that error.
-fn static_time_for(c: &Comparison, r: &Row) -> Option<f64> {
-    let points: Vec<(f64, f64)> = static_rows(c).iter().map(|s| (s.wall_s, s.e_rms)).collect();
-    static_time_at_error(&points, r.e_rms)
+/// How a curve reaches an error.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Reach {
+    /// At this wall time (s), interpolated along the curve.
+    At(f64),
+    /// Already at its fastest run (s): the error is reached in at most this time.
+    AtMost(f64),
+    /// Never: its best error (m) is above.
+    Never(f64),
 }
 
-/// Whether a run's error is resolved by the reference: at least twice the reference's floor.
+/// Where `curve` reaches `error` in `metric`.
+pub fn reach(curve: &Curve, metric: Metric, error: f64) -> Reach {
+    let points: Vec<(f64, f64)> = curve
+        .rows
+        .iter()
+        .map(|r| (r.wall_s, metric.of(r)))
+        .collect();
+    let front: Vec<(f64, f64)> = pareto_front(&points)
+        .into_iter()
+        .map(|i| points[i])
+        .collect();
+    let best = front.iter().map(|p| p.1).fold(f64::INFINITY, f64::min);
+    match front.first() {
+        Some(&(t, e)) if e <= error => Reach::AtMost(t),
+        _ if best.is_nan() || best > error => Reach::Never(best),
+        _ => static_time_at_error(&points, error).map_or(Reach::Never(best), Reach::At),
+    }
+}
+
+/// The static runs whose errors are the targets: 17x17 and 33x33, or the two finest.
+pub fn targets<'a>(statics: &Curve<'a>) -> Vec<&'a Row> {
+    let mut by_grid = statics.rows.clone();
+    by_grid.sort_by_key(|r| r.resolution);
+    let named: Vec<&Row> = by_grid
+        .iter()
+        .copied()
+        .filter(|r| r.resolution == 17 || r.resolution == 33)
+        .collect();
+    if named.len() == 2 {
+        return named;
+    }
+    by_grid.iter().rev().take(2).rev().copied().collect()
+}
+
+/// A speed-up cell: `x2.31`, `>= x4.0`, `does not reach (best 3.1e-2 m)`, flagged when the target
+/// error is within 2x of the floor.
+fn speedup_cell(curve: &Curve, target: &Row, metric: Metric, floor: f64) -> (String, f64) {
+    let error = metric.of(target);
+    let flag = if error < 2.0 * floor {
+        " (not resolved)"
+    } else {
+        ""
+    };
+    match reach(curve, metric, error) {
+        Reach::At(t) => (
+            format!("x{:.2}{flag}", target.wall_s / t),
+            target.wall_s / t,
+        ),
+        Reach::AtMost(t) => (
+            format!(">= x{:.2}{flag}", target.wall_s / t),
+            target.wall_s / t,
+        ),
+        Reach::Never(best) => (format!("does not reach (best {} m)", fmt_e(best)), 0.0),
+    }
+}
+
+/// The answer first: per scene and integrator, each strategy's speed-up over the static curve at
+/// the errors of the target static grids, for e_rms and Hausdorff, and the winner (markdown).
+pub fn summary(items: &[(PathBuf, Comparison)]) -> String {
+    let mut s = String::new();
+    for (_, c) in items {
+        for integrator in integrators(c) {
+            s += &summary_block(c, integrator);
+        }
+    }
+    if s.is_empty() {
+        s = "No static and adaptive curves to compare yet.\n".into();
+    }
+    s
+}
+
+/// The summary table of one scene and integrator.
+fn summary_block(c: &Comparison, integrator: &str) -> String {
+    let all = curves(c, integrator);
+    let Some(statics) = all.iter().find(|k| k.is_static()) else {
+        return String::new();
+    };
+    let targets = targets(statics);
+    let others: Vec<&Curve> = all.iter().filter(|k| !k.is_static()).collect();
+    if targets.is_empty() || others.is_empty() {
+        return String::new();
+    }
+    let mut head = format!("| strategy ({}, `{integrator}`) |", c.manifest.scene);
+    for m in Metric::ALL {
+        for t in &targets {
+            let _ = write!(
+                head,
+                " {} of static {}x{} ({} m, {} s) |",
+                m.name(),
+                t.resolution,
+                t.resolution,
+                fmt_e(m.of(t)),
+                fmt_s(t.wall_s)
+            );
+        }
+    }
+    let cols = Metric::ALL.len() * targets.len();
+    let mut s = format!("{head}\n|---|{}\n", "---:|".repeat(cols));
+    let mut best: Vec<(f64, &str)> = vec![(0.0, "none"); cols];
+    for k in &others {
+        let mut row = format!("| `{}` |", k.series);
+        for (j, (m, t)) in Metric::ALL
+            .iter()
+            .flat_map(|m| targets.iter().map(move |t| (*m, *t)))
+            .enumerate()
+        {
+            let (cell, x) = speedup_cell(k, t, m, m.floor(c));
+            let _ = write!(row, " {cell} |");
+            if x > best[j].0 {
+                best[j] = (x, k.series);
+            }
+        }
+        s += &row;
+        s.push('\n');
+    }
+    let mut win = String::from("| **wins** |");
+    for (x, name) in &best {
+        if *x >= 1.0 {
+            let _ = write!(win, " `{name}` |");
+        } else {
+            let _ = write!(win, " static |");
+        }
+    }
+    s += &win;
+    s += "\n\n";
+    s
+}
+
+/// Whether a run's e_rms is resolved by the reference: at least twice the reference's floor.
 fn resolved(c: &Comparison, r: &Row) -> bool {
     r.e_rms >= 2.0 * c.manifest.reference.floor.e_rms
 }
 
-/// "wins" when a speed-up at equal error is at least 1, else "loses".
-fn verdict(speedup: f64) -> &'static str {
-    if speedup >= 1.0 {
-        "wins"
-    } else {
-        "loses"
+/// The computed reading (markdown): failed runs; per integrator, the static curve (observed
+/// order and cost exponent between grids) and each other run's speed-up at its own error with
+/// where its time goes.
+pub fn reading(c: &Comparison) -> String {
+    let mut s = String::new();
+    for r in c.rows.iter().filter(|r| !r.completed()) {
+        let _ = writeln!(
+            s,
+            "- **{}** did not complete (status `{}`, reached t = {:.3} s); it is left out of the \
+             curves and the speed-ups.",
+            r.label, r.status, r.sim_time
+        );
     }
-}
-
-/// One cell of the summary table: the speed-up at equal error, or why there is none.
-fn summary_cell(c: &Comparison, label: &str) -> String {
-    let Some(r) = c.rows.iter().find(|r| r.label == label) else {
-        return "not run".into();
-    };
-    if !r.completed() {
-        return format!("{} at t = {:.3} s", r.status, r.sim_time);
-    }
-    let Some(t_static) = static_time_for(c, r) else {
-        return "not bracketed by the static runs".into();
-    };
-    let speedup = t_static / r.wall_s;
-    let verdict = verdict(speedup);
-    if resolved(c, r) {
-        format!("**x{speedup:.2}** ({verdict})")
-    } else {
-        format!("x{speedup:.2} ({verdict}; not resolved: within 2x of the floor)")
-    }
-}
-
-/// The answer first: per scene, each adaptive configuration's speed-up over the static mesh at
-/// equal error (markdown table; columns in the order configurations first appear).
-pub fn summary(items: &[(PathBuf, Comparison)]) -> String {
-    let mut labels: Vec<&str> = Vec::new();
-    for (_, c) in items {
-        for r in c.rows.iter().filter(|r| r.strategy != "static") {
-            if !labels.contains(&r.label.as_str()) {
-                labels.push(&r.label);
+    for integrator in integrators(c) {
+        let all = curves(c, integrator);
+        let _ = writeln!(s, "- With `{integrator}`:");
+        let statics = all.iter().find(|k| k.is_static());
+        if let Some(st) = statics {
+            s += &static_curve(c, st);
+        }
+        for k in all.iter().filter(|k| !k.is_static()) {
+            for r in &k.rows {
+                s += &run_line(c, r, statics);
             }
         }
     }
-    if labels.is_empty() {
-        return "No adaptive strategy ran: there is no speed-up to report yet.\n".into();
-    }
-    let mut s = format!(
-        "| scene | reference floor e_rms (m) | {} |\n|---|---:|{}\n",
-        labels.join(" | "),
-        "---|".repeat(labels.len())
-    );
-    for (_, c) in items {
-        let cells: Vec<String> = labels.iter().map(|l| summary_cell(c, l)).collect();
+    s
+}
+
+/// The static curve: its points, and the observed order and cost exponent between grids.
+fn static_curve(c: &Comparison, statics: &Curve) -> String {
+    let mut s = String::new();
+    let mut sorted = statics.rows.clone();
+    sorted.sort_by_key(|r| r.resolution);
+    let list: Vec<String> = sorted
+        .iter()
+        .map(|r| {
+            let n = r.resolution;
+            format!(
+                "{n}x{n}: e_rms {} m in {} s",
+                fmt_e(r.e_rms),
+                fmt_s(r.wall_s)
+            )
+        })
+        .collect();
+    let _ = writeln!(s, "  - Static mesh: {}.", list.join("; "));
+    for w in sorted.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let h = ((a.resolution - 1) as f64 / (b.resolution - 1) as f64).ln();
+        let order = (a.e_rms / b.e_rms).ln() / (-h);
+        let cost = (b.wall_s / a.wall_s).ln() / (-h);
         let _ = writeln!(
             s,
-            "| {} | {} | {} |",
-            c.manifest.scene,
+            "    - {}x{} -> {}x{}: error x{:.2} (observed order {:.2} in the edge length), wall time x{:.1} (exponent {:.2}).",
+            a.resolution, a.resolution, b.resolution, b.resolution,
+            b.e_rms / a.e_rms, order, b.wall_s / a.wall_s, cost
+        );
+    }
+    let near: Vec<&str> = sorted
+        .iter()
+        .filter(|r| !resolved(c, r))
+        .map(|r| r.label.as_str())
+        .collect();
+    if !near.is_empty() {
+        let _ = writeln!(
+            s,
+            "    - Within a factor 2 of the reference floor ({} m), so not resolved by this reference: {}.",
             fmt_e(c.manifest.reference.floor.e_rms),
-            cells.join(" | ")
+            near.join(", ")
         );
     }
     s
 }
 
-/// The computed reading: the static curve, and for each adaptive strategy the speed-up over the
-/// static mesh at equal error and where its time goes (markdown).
-pub fn reading(c: &Comparison) -> String {
-    let mut s = String::new();
-    let floor = c.manifest.reference.floor.e_rms;
-    let statics = static_rows(c);
-    let failed: Vec<&Row> = c.rows.iter().filter(|r| !r.completed()).collect();
-    for r in &failed {
-        let _ = writeln!(
-            s,
-            "- **{}** did not complete (status `{}`, reached t = {:.3} s); it is left out of the \
-             Pareto front and the speed-ups.",
-            r.label, r.status, r.sim_time
-        );
-    }
-    // The static curve.
-    let mut sorted = statics.clone();
-    sorted.sort_by_key(|r| r.resolution);
-    if !sorted.is_empty() {
-        let list: Vec<String> = sorted
-            .iter()
-            .map(|r| {
-                format!(
-                    "{}x{}: e_rms {} m in {} s",
-                    r.resolution,
-                    r.resolution,
-                    fmt_e(r.e_rms),
-                    fmt_s(r.wall_s)
-                )
-            })
-            .collect();
-        let _ = writeln!(s, "- Static mesh: {}.", list.join("; "));
-        for w in sorted.windows(2) {
-            let (a, b) = (w[0], w[1]);
-            let h = ((a.resolution - 1) as f64 / (b.resolution - 1) as f64).ln();
-            let order = (a.e_rms / b.e_rms).ln() / (-h);
-            let cost = (b.wall_s / a.wall_s).ln() / (-h);
-            let _ = writeln!(
-                s,
-                "  - {}x{} -> {}x{}: error x{:.2} (observed order {:.2} in the edge length), wall time x{:.1} (exponent {:.2}).",
-                a.resolution, a.resolution, b.resolution, b.resolution,
-                b.e_rms / a.e_rms, order, b.wall_s / a.wall_s, cost
-            );
-        }
-        let near: Vec<String> = sorted
-            .iter()
-            .filter(|r| !resolved(c, r))
-            .map(|r| r.label.clone())
-            .collect();
-        if !near.is_empty() {
-            let _ = writeln!(
-                s,
-                "  - Within a factor 2 of the reference floor ({} m), so not resolved by this reference: {}.",
-                fmt_e(floor),
-                near.join(", ")
-            );
-        }
-    }
-    let adaptive: Vec<&Row> = c
-        .rows
-        .iter()
-        .filter(|r| r.strategy != "static" && r.completed())
-        .collect();
-    if adaptive.is_empty() {
-        let skipped: Vec<String> = c.manifest.skipped.iter().map(|k| k.label.clone()).collect();
-        let _ = writeln!(
-            s,
-            "- No adaptive strategy ran{}: there is no speed-up to report yet. This section is \
-             regenerated from the runs, so it fills in when the strategies are built.",
-            if skipped.is_empty() {
-                String::new()
+/// One adaptive run: its speed-up over the static curve at its own e_rms, and its time profile.
+fn run_line(c: &Comparison, r: &Row, statics: Option<&Curve>) -> String {
+    let total = r.integrate_s + r.collide_s + r.adapt_s + r.rebuild_s + r.record_s;
+    let stage = |x: f64| 100.0 * x / total.max(1e-300);
+    let time = format!(
+        "integrate {:.0} %, collide {:.0} %, adapt {:.0} %, rebuild {:.0} %, record {:.0} %; {} steps, {:.0} mean vertices",
+        stage(r.integrate_s), stage(r.collide_s), stage(r.adapt_s), stage(r.rebuild_s),
+        stage(r.record_s), r.steps, r.mean_vertices
+    );
+    let head = format!(
+        "  - **{}**: e_rms {} m in {} s",
+        r.label,
+        fmt_e(r.e_rms),
+        fmt_s(r.wall_s)
+    );
+    let static_rows: Vec<&Row> = statics.map(|k| k.rows.clone()).unwrap_or_default();
+    let mut s = match statics.map(|k| reach(k, Metric::Rms, r.e_rms)) {
+        Some(Reach::At(t)) => {
+            let x = t / r.wall_s;
+            let verdict = if x >= 1.0 { "wins" } else { "loses" };
+            let flag = if resolved(c, r) {
+                ""
             } else {
-                format!(" (skipped: {})", skipped.join(", "))
-            }
-        );
-        return s;
-    }
-    for r in adaptive {
-        let total = r.integrate_s + r.collide_s + r.adapt_s + r.rebuild_s + r.record_s;
-        let stage = |x: f64| 100.0 * x / total.max(1e-300);
-        let where_time = format!(
-            "integrate {:.0} %, collide {:.0} %, adapt {:.0} %, rebuild {:.0} %, record {:.0} %; {} steps, {:.0} mean vertices",
-            stage(r.integrate_s), stage(r.collide_s), stage(r.adapt_s), stage(r.rebuild_s), stage(r.record_s),
-            r.steps, r.mean_vertices
-        );
-        match static_time_for(c, r) {
-            Some(t_static) => {
-                let speedup = t_static / r.wall_s;
-                let verdict = verdict(speedup);
-                let _ = writeln!(
-                    s,
-                    "- **{}**: e_rms {} m in {} s; the static mesh needs {} s for that error \
-                     (log-log interpolation): speed-up **x{:.2}** ({verdict}). Time: {where_time}.",
-                    r.label,
-                    fmt_e(r.e_rms),
-                    fmt_s(r.wall_s),
-                    fmt_s(t_static),
-                    speedup
-                );
-                if !resolved(c, r) {
-                    let _ = writeln!(
-                        s,
-                        "  - Its error is within a factor 2 of the reference floor ({} m): the \
-                         reference does not resolve it, so this speed-up is indicative only.",
-                        fmt_e(floor)
-                    );
-                }
-                if speedup < 1.0 {
-                    let _ = writeln!(s, "  - {}", why_slow(r, &statics));
-                }
-            }
-            None => {
-                let best = statics
-                    .iter()
-                    .map(|x| x.e_rms)
-                    .fold(f64::INFINITY, f64::min);
-                let worst = statics.iter().map(|x| x.e_rms).fold(0.0, f64::max);
-                let position = if r.e_rms < best {
-                    "more accurate than every static run (the speed-up is not measurable without a finer static run)"
-                } else if r.e_rms > worst {
-                    "less accurate than the coarsest static run"
-                } else {
-                    "not bracketed by the static Pareto front"
-                };
-                let _ = writeln!(
-                    s,
-                    "- **{}**: e_rms {} m in {} s: {position}. Time: {where_time}.",
-                    r.label,
-                    fmt_e(r.e_rms),
-                    fmt_s(r.wall_s)
-                );
-                if r.e_rms > worst {
-                    let _ = writeln!(s, "  - {}", why_slow(r, &statics));
-                }
-            }
+                "; not resolved: within 2x of the floor"
+            };
+            format!(
+                "{head}; the static mesh needs {} s for that error: speed-up **x{x:.2}** ({verdict}{flag}). Time: {time}.\n",
+                fmt_s(t)
+            )
         }
+        Some(Reach::AtMost(_)) => format!(
+            "{head}: less accurate than the fastest static run. Time: {time}.\n"
+        ),
+        Some(Reach::Never(_)) => format!(
+            "{head}: more accurate than every static run (no static time to compare). Time: {time}.\n"
+        ),
+        None => format!("{head}: no static run with this integrator. Time: {time}.\n"),
+    };
+    let loses = match statics.map(|k| reach(k, Metric::Rms, r.e_rms)) {
+        Some(Reach::At(t)) => t < r.wall_s,
+        Some(Reach::AtMost(_)) => true,
+        _ => false,
+    };
+    if loses {
+        let _ = writeln!(s, "    - {}", why_slow(r, &static_rows));
     }
     s
 }
@@ -240,7 +386,7 @@ fn why_slow(r: &Row, statics: &[&Row]) -> String {
     )];
     if let Some(b) = base {
         parts.push(format!(
-            "it takes {:.1}x the steps of static {}x{} ({} vs {}: smaller elements shrink dt = beta pi sqrt(m_min/k_max))",
+            "it takes {:.1}x the steps of static {}x{} ({} vs {})",
             r.steps as f64 / b.steps.max(1) as f64,
             b.resolution,
             b.resolution,
@@ -255,4 +401,58 @@ fn why_slow(r: &Row, statics: &[&Row]) -> String {
         ));
     }
     format!("Why: {}.", parts.join("; "))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::table::tests::row;
+
+    fn run(series: &str, strategy: &str, resolution: usize, wall_s: f64, e: f64) -> Row {
+        Row {
+            series: series.into(),
+            strategy: strategy.into(),
+            resolution,
+            label: format!("{series}-{resolution}-rk4"),
+            wall_s,
+            e_rms: e,
+            hausdorff: 2.0 * e,
+            ..row("x")
+        }
+    }
+
+    #[test]
+    fn curves_reach_errors_by_interpolation_and_say_when_they_cannot() {
+        let rows = [
+            run("static", "static", 5, 1.0, 4e-2),
+            run("static", "static", 17, 10.0, 2e-2),
+            run("static", "static", 33, 100.0, 1e-2),
+            run("bisect48", "bisect48", 5, 2.0, 3e-2),
+            run("bisect48", "bisect48", 5, 20.0, 1e-2),
+        ];
+        let c = Comparison {
+            manifest: crate::study::table::tests::manifest(),
+            rows: rows.to_vec(),
+        };
+        let all = curves(&c, "rk4");
+        assert_eq!(all.len(), 2);
+        assert!(all[0].is_static());
+        let t = targets(&all[0]);
+        assert_eq!(t.iter().map(|r| r.resolution).collect::<Vec<_>>(), [17, 33]);
+        // bisect48 reaches 2e-2 between (2 s, 3e-2) and (20 s, 1e-2): log-log interpolation.
+        let Reach::At(time) = reach(&all[1], Metric::Rms, 2e-2) else {
+            panic!("reaches")
+        };
+        let s = (2e-2f64.ln() - 3e-2f64.ln()) / (1e-2f64.ln() - 3e-2f64.ln());
+        assert!((time - (2f64.ln() + s * (20f64 / 2.0).ln()).exp()).abs() < 1e-9);
+        assert_eq!(reach(&all[1], Metric::Rms, 5e-3), Reach::Never(1e-2));
+        assert_eq!(reach(&all[1], Metric::Rms, 5e-2), Reach::AtMost(2.0));
+        let table = summary(&[(PathBuf::new(), c)]);
+        assert!(table.contains("e_rms of static 17x17"), "{table}");
+        assert!(table.contains("Hausdorff of static 33x33"), "{table}");
+        // At 33x33's error (1e-2 m in 100 s) bisect48 takes 20 s: x5.00, it wins there.
+        assert!(table.contains("x5.00"), "{table}");
+        assert!(table.contains("| **wins** |"), "{table}");
+        assert!(table.contains("`bisect48`"), "{table}");
+    }
 }

@@ -129,6 +129,7 @@ fn empty_row(base: &LoadedScene, c: &RunConfig) -> Row {
         strategy: c.strategy.clone(),
         integrator: c.integrator.clone(),
         label: c.label(),
+        series: c.base.clone(),
         wall_s: f64::NAN,
         steps: 0,
         mean_vertices: f64::NAN,

@@ -103,6 +103,8 @@ comparison_row! {
     integrator: String => Format::Plain,
     /// Configuration label (also the run's folder name).
     label: String => Format::Plain,
+    /// The curve the run belongs to: its strategy, or its study run's `label`.
+    series: String => Format::Plain,
     /// Wall time of the run (s), recording included.
     wall_s: f64 => Format::Fixed(4),
     /// Steps taken.
@@ -303,6 +305,7 @@ pub(crate) mod tests {
             strategy: "static".into(),
             integrator: "rk4".into(),
             label: label.into(),
+            series: "static".into(),
             wall_s: 1.25,
             steps: 100,
             mean_vertices: 25.0,
@@ -324,6 +327,43 @@ pub(crate) mod tests {
             adapt_s: 0.0,
             rebuild_s: 0.0,
             record_s: 0.15,
+        }
+    }
+
+    /// A manifest with a tiny floor.
+    pub(crate) fn manifest() -> Manifest {
+        Manifest {
+            scene: "sphere".into(),
+            source: "<embedded sphere>".into(),
+            base_dir: PathBuf::new(),
+            duration: 0.6,
+            beta: 1e-3,
+            configs: Vec::new(),
+            skipped: Vec::new(),
+            shard: None,
+            jobs: 1,
+            reference: ReferenceInfo {
+                resolution: 65,
+                beta: 0.01,
+                integrator: "rk4".into(),
+                dt_initial: Some(0.0),
+                key: "k".into(),
+                steps: 1,
+                wall_s: 1.0,
+                samples: 64,
+                floor: Floor {
+                    resolution: 33,
+                    e_rms: 1e-4,
+                    e_final: 1e-4,
+                    tracked_err: 1e-4,
+                    hausdorff: 1e-4,
+                    wall_s: 1.0,
+                    steps: 1,
+                },
+                dir: PathBuf::new(),
+                tracked: Vec::new(),
+            },
+            obstacles: Vec::new(),
         }
     }
 

@@ -143,8 +143,9 @@ fn tiny_compare_end_to_end_with_cache_shards_and_merge() {
     }
     assert!(merged.join("speed_error.svg").is_file());
 
-    // The docs page over the merged comparison opens with the summary: one row per scene and
-    // one column per adaptive configuration, each cell a speed-up or the reason there is none.
+    // The docs page over the merged comparison opens with the summary: per scene and
+    // integrator, one row per adaptive strategy, one column per (measure, static target), each
+    // cell a speed-up or the reason there is none, and the winner of each column.
     let docs = dir.path().join("docs");
     let (code, text) = adaptcloth(&[
         "report",
@@ -163,27 +164,25 @@ fn tiny_compare_end_to_end_with_cache_shards_and_merge() {
         .split("\n## ")
         .next()
         .unwrap();
-    let adaptive: Vec<&str> = labels
-        .iter()
-        .copied()
-        .filter(|l| !l.starts_with("static"))
-        .collect();
-    for label in &adaptive {
-        assert!(summary.contains(label), "{label} column: {summary}");
-    }
+    assert!(
+        summary.contains("| strategy (sphere, `rk4`) |"),
+        "{summary}"
+    );
+    assert!(summary.contains("e_rms of static 3x3"), "{summary}");
+    assert!(summary.contains("Hausdorff of static 5x5"), "{summary}");
     let row = summary
         .lines()
-        .find(|l| l.starts_with("| sphere |"))
-        .expect("a sphere row");
-    let cells = row.trim_matches('|').split(" | ").count();
-    assert_eq!(cells, 2 + adaptive.len(), "{row}");
-    if !adaptive.is_empty() {
+        .find(|l| l.starts_with("| `remesh` |"))
+        .expect("a remesh row");
+    let cells: Vec<&str> = row.trim_matches('|').split(" | ").map(str::trim).collect();
+    assert_eq!(cells.len(), 5, "{row}");
+    for cell in &cells[1..] {
         assert!(
-            row.contains("x") && (row.contains("wins") || row.contains("loses"))
-                || row.contains("not bracketed"),
+            cell.starts_with('x') || cell.starts_with(">= x") || cell.starts_with("does not reach"),
             "{row}"
         );
     }
+    assert!(summary.contains("| **wins** |"), "{summary}");
 
     // Merging a shard twice is refused.
     let (code, text) = adaptcloth(&[

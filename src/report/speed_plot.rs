@@ -1,0 +1,221 @@
+//! The speed-error plot: wall time against error, log-log, one panel per integrator (the same
+//! axes in every panel), each strategy a line through its configurations (static: the grid
+//! resolutions, circles; adaptive: its sweep, triangles), each point tagged with what varies
+//! along its line, the reference floor dashed. The legend is a column of its own beside the
+//! panels, so it never hides a point or a label.
+
+use super::plots::{
+    color, err, log_range, log_tick, log_tick_sci, register_fonts, DrawResult, PlotError,
+};
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use std::path::{Path, PathBuf};
+
+/// One line of a panel: a strategy (or study series) through its configurations.
+#[derive(Clone, Debug)]
+pub struct SpeedCurve {
+    /// Legend label (the same label has the same colour in every panel).
+    pub label: String,
+    /// Static mesh (circles) or adaptive (triangles).
+    pub is_static: bool,
+    /// `(wall time s, error m, tag)` per configuration; drawn in order of wall time.
+    pub points: Vec<(f64, f64, String)>,
+}
+
+/// One panel: the curves of one integrator.
+#[derive(Clone, Debug)]
+pub struct SpeedPanel {
+    /// Panel title (the integrator).
+    pub title: String,
+    /// Its curves.
+    pub curves: Vec<SpeedCurve>,
+    /// The reference floor of the error (m), dashed.
+    pub floor: Option<f64>,
+}
+
+const PANEL_WIDTH: u32 = 560;
+const LEGEND_WIDTH: u32 = 230;
+const HEIGHT: u32 = 560;
+
+fn finite_positive(p: &(f64, f64, String)) -> bool {
+    p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite()
+}
+
+/// Draws the plot to `stem.svg` and `stem.png` and returns the files written.
+pub fn speed_error(
+    stem: &Path,
+    title: &str,
+    error_name: &str,
+    panels: &[SpeedPanel],
+) -> Result<Vec<PathBuf>, PlotError> {
+    register_fonts();
+    let svg = stem.with_extension("svg");
+    let png = stem.with_extension("png");
+    let size = (
+        PANEL_WIDTH * panels.len().max(1) as u32 + LEGEND_WIDTH,
+        HEIGHT,
+    );
+    {
+        let root = SVGBackend::new(&svg, size).into_drawing_area();
+        draw(&root, title, error_name, panels).map_err(|e| err(&svg, e))?;
+        root.present().map_err(|e| err(&svg, e))?;
+    }
+    {
+        let root = BitMapBackend::new(&png, size).into_drawing_area();
+        draw(&root, title, error_name, panels).map_err(|e| err(&png, e))?;
+        root.present().map_err(|e| err(&png, e))?;
+    }
+    Ok(vec![svg, png])
+}
+
+/// Every curve label in first-appearance order: a label's colour is its position here.
+fn labels(panels: &[SpeedPanel]) -> Vec<(String, bool)> {
+    let mut out: Vec<(String, bool)> = Vec::new();
+    for c in panels.iter().flat_map(|p| &p.curves) {
+        if !out.iter().any(|(l, _)| *l == c.label) {
+            out.push((c.label.clone(), c.is_static));
+        }
+    }
+    out
+}
+
+fn draw<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    title: &str,
+    error_name: &str,
+    panels: &[SpeedPanel],
+) -> DrawResult<DB> {
+    root.fill(&WHITE)?;
+    let root = root.titled(title, ("sans-serif", 20))?;
+    let points = || {
+        panels
+            .iter()
+            .flat_map(|p| &p.curves)
+            .flat_map(|c| &c.points)
+            .filter(|p| finite_positive(p))
+    };
+    let (x0, x1) = log_range(points().map(|p| p.0));
+    let floors = panels.iter().filter_map(|p| p.floor);
+    let (y0, y1) = log_range(points().map(|p| p.1).chain(floors));
+    let legend = labels(panels);
+    let (plots, side) = root.split_horizontally(root.dim_in_pixel().0 - LEGEND_WIDTH);
+    let areas = plots.split_evenly((1, panels.len().max(1)));
+    for (area, panel) in areas.iter().zip(panels) {
+        let mut chart = ChartBuilder::on(area)
+            .caption(&panel.title, ("sans-serif", 16))
+            .margin(12)
+            .x_label_area_size(45)
+            .y_label_area_size(70)
+            .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
+        chart
+            .configure_mesh()
+            .x_desc("wall time (s)")
+            .y_desc(format!("{error_name} (m)"))
+            .light_line_style(WHITE)
+            .label_style(("sans-serif", 12))
+            .axis_desc_style(("sans-serif", 14))
+            .x_label_formatter(&|v| log_tick(*v))
+            .y_label_formatter(&|v| log_tick_sci(*v))
+            .draw()?;
+        if let Some(f) = panel.floor.filter(|f| *f > 0.0 && f.is_finite()) {
+            let style = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
+            let (l0, l1) = (x0.ln(), x1.ln());
+            for k in (0..40).step_by(2) {
+                let a = (l0 + (l1 - l0) * k as f64 / 40.0).exp();
+                let b = (l0 + (l1 - l0) * (k + 1) as f64 / 40.0).exp();
+                chart.draw_series(LineSeries::new(vec![(a, f), (b, f)], style))?;
+            }
+        }
+        for curve in &panel.curves {
+            let k = legend
+                .iter()
+                .position(|(l, _)| *l == curve.label)
+                .unwrap_or(0);
+            let c = color(k);
+            let mut pts: Vec<&(f64, f64, String)> =
+                curve.points.iter().filter(|p| finite_positive(p)).collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let line = ShapeStyle::from(&c).stroke_width(2);
+            chart.draw_series(LineSeries::new(pts.iter().map(|p| (p.0, p.1)), line))?;
+            let fill = ShapeStyle::from(&c).filled();
+            for p in pts {
+                let at = (p.0, p.1);
+                if curve.is_static {
+                    chart.draw_series(std::iter::once(Circle::new(at, 5, fill)))?;
+                } else {
+                    chart.draw_series(std::iter::once(TriangleMarker::new(at, 7, fill)))?;
+                }
+                let font = ("sans-serif", 11).into_font().color(&c);
+                chart.draw_series(std::iter::once(
+                    EmptyElement::at(at) + Text::new(p.2.clone(), (6, -14), font),
+                ))?;
+            }
+        }
+    }
+    draw_legend(&side, &legend, panels.iter().any(|p| p.floor.is_some()))
+}
+
+/// The legend column: one line per curve label, then the floor.
+fn draw_legend<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    legend: &[(String, bool)],
+    floor: bool,
+) -> DrawResult<DB> {
+    let font = ("sans-serif", 13).into_font();
+    let mut y = 60;
+    for (k, (label, is_static)) in legend.iter().enumerate() {
+        let c = color(k);
+        let fill = ShapeStyle::from(&c).filled();
+        area.draw(&PathElement::new(
+            vec![(8, y), (36, y)],
+            ShapeStyle::from(&c).stroke_width(2),
+        ))?;
+        if *is_static {
+            area.draw(&Circle::new((22, y), 5, fill))?;
+        } else {
+            area.draw(&TriangleMarker::new((22, y), 7, fill))?;
+        }
+        area.draw(&Text::new(label.clone(), (44, y - 8), font.clone()))?;
+        y += 24;
+    }
+    if floor {
+        let grey = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
+        area.draw(&PathElement::new(vec![(8, y), (16, y)], grey))?;
+        area.draw(&PathElement::new(vec![(24, y), (32, y)], grey))?;
+        area.draw(&Text::new("reference floor", (44, y - 8), font))?;
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_panel_per_integrator_and_the_legend_beside_them() {
+        let dir = tempfile::tempdir().unwrap();
+        let curve = |label: &str, is_static: bool, k: f64| SpeedCurve {
+            label: label.into(),
+            is_static,
+            points: vec![(k, 0.1 / k, "5".into()), (10.0 * k, 0.01 / k, "17".into())],
+        };
+        let panel = |title: &str| SpeedPanel {
+            title: title.into(),
+            curves: vec![curve("static", true, 1.0), curve("bisect48", false, 2.0)],
+            floor: Some(1e-3),
+        };
+        let files = speed_error(
+            &dir.path().join("se"),
+            "t",
+            "e_rms",
+            &[panel("rk4"), panel("implicit_euler")],
+        )
+        .unwrap();
+        let svg = std::fs::read_to_string(&files[0]).unwrap();
+        assert!(svg.contains(&format!("width=\"{}\"", 2 * PANEL_WIDTH + LEGEND_WIDTH)));
+        for text in ["rk4", "implicit_euler", "bisect48", "reference floor"] {
+            assert!(svg.contains(text), "{text}");
+        }
+        assert!(std::fs::metadata(&files[1]).unwrap().len() > 1000);
+    }
+}
