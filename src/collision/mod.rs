@@ -23,17 +23,17 @@ mod cylinder_ray;
 mod error;
 mod grid;
 mod obj;
+mod params;
 mod shape;
 #[cfg(test)]
 mod tests;
 
 pub use error::CollisionError;
+pub use params::{ContactParams, Obstacle, ObstacleShape};
 
 use crate::math::{Real, Vec3};
-use crate::scene::{CollisionSpec, ObstacleSpec};
 use parry3d_f64::math::Vector;
-use shape::{to_glam, to_na, Obstacle};
-use std::path::Path;
+use shape::{to_glam, to_na, Solid};
 
 /// How many push-out sweeps over the obstacles a point gets (a point wedged between two
 /// obstacles may be pushed back and forth; after this many sweeps the last position stands).
@@ -45,7 +45,7 @@ const MARGIN_SLACK: Real = 1e-9;
 
 /// All static obstacles of a scene, the collision margin and the default restitution.
 pub struct Obstacles {
-    obstacles: Vec<Obstacle>,
+    obstacles: Vec<Solid>,
     margin: Real,
     restitution: Real,
 }
@@ -109,30 +109,29 @@ fn collide_velocity(v: Vector, n: Vector, gamma: Real, mu: Real) -> Vector {
 }
 
 impl Obstacles {
-    /// Builds the obstacles; mesh files are resolved relative to `base_dir`.
+    /// Builds the obstacles with these contact parameters.
     ///
     /// Errors: a non-positive or non-finite radius, height, half extent or scale, a non-finite
     /// position, a negative margin, or a mesh file that is missing, unreadable, malformed or
     /// has no faces.
     pub fn build(
-        specs: &[ObstacleSpec],
-        collision: &CollisionSpec,
-        base_dir: &Path,
+        obstacles: &[Obstacle],
+        contact: &ContactParams,
     ) -> Result<Obstacles, CollisionError> {
-        if !(collision.margin.is_finite() && collision.margin >= 0.0) {
+        if !(contact.margin.is_finite() && contact.margin >= 0.0) {
             return Err(CollisionError::BadParameter {
-                message: format!("margin must be >= 0, got {}", collision.margin),
+                message: format!("margin must be >= 0, got {}", contact.margin),
             });
         }
-        let obstacles = specs
+        let obstacles = obstacles
             .iter()
             .enumerate()
-            .map(|(index, spec)| Obstacle::build(index, spec, base_dir, 2.0 * collision.margin))
+            .map(|(index, o)| Solid::build(index, o, 2.0 * contact.margin))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Obstacles {
             obstacles,
-            margin: collision.margin,
-            restitution: collision.restitution,
+            margin: contact.margin,
+            restitution: contact.restitution,
         })
     }
 
@@ -153,7 +152,7 @@ impl Obstacles {
 
     /// Restitution of obstacle `ob`: its own if positive, else the default.
     #[inline]
-    fn gamma(&self, ob: &Obstacle) -> Real {
+    fn gamma(&self, ob: &Solid) -> Real {
         if ob.restitution > 0.0 {
             ob.restitution
         } else {

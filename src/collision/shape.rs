@@ -6,14 +6,13 @@ use super::cylinder_ray::cylinder_entry;
 use super::error::CollisionError;
 use super::grid::DistanceGrid;
 use super::obj::read_obj;
+use super::params::{Obstacle, ObstacleShape};
 use crate::math::{Real, Vec3};
-use crate::scene::{ObstacleShape, ObstacleSpec};
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayCullingMode};
 use parry3d_f64::shape::{
     Ball, Cuboid, Cylinder, FeatureId, HalfSpace, Shape, TriMesh, TriMeshFlags,
 };
-use std::path::Path;
 
 /// Below this length (m) a projection offset is treated as zero and the normal comes from the
 /// shape's own geometry instead.
@@ -56,8 +55,8 @@ pub(crate) struct Projection {
     pub distance: Real,
 }
 
-/// One static obstacle.
-pub(crate) struct Obstacle {
+/// One static obstacle, built: its parry3d shape, pose, contact parameters and bounds.
+pub(crate) struct Solid {
     geometry: Geometry,
     pose: Pose,
     /// Friction coefficient of the surface.
@@ -93,16 +92,10 @@ fn finite3(index: usize, what: &str, v: [Real; 3]) -> Result<Vector, CollisionEr
     }
 }
 
-impl Obstacle {
-    /// Builds obstacle number `index` of the scene; mesh files are relative to `base_dir`.
-    /// For meshes, a coarse signed-distance grid covering the AABB grown by `grid_pad` (m) is
+impl Solid {
+    /// Builds obstacle number `index` of the list. For meshes, a coarse signed-distance grid covering the AABB grown by `grid_pad` (m) is
     /// sampled as a mid phase (see `grid`).
-    pub fn build(
-        index: usize,
-        spec: &ObstacleSpec,
-        base_dir: &Path,
-        grid_pad: Real,
-    ) -> Result<Obstacle, CollisionError> {
+    pub fn build(index: usize, spec: &Obstacle, grid_pad: Real) -> Result<Solid, CollisionError> {
         let bad = |message: String| CollisionError::BadShape { index, message };
         let (geometry, pose) = match &spec.shape {
             ObstacleShape::Ground { height } => {
@@ -155,7 +148,7 @@ impl Obstacle {
             } => {
                 let scale = positive(index, "mesh scale", *scale)?;
                 let translation = finite3(index, "mesh translation", *translation)?;
-                let obj = read_obj(&base_dir.join(file))?;
+                let obj = read_obj(file)?;
                 let vertices = obj
                     .vertices
                     .iter()
@@ -166,7 +159,7 @@ impl Obstacle {
                     obj.triangles,
                     TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES,
                 )
-                .map_err(|e| bad(format!("mesh `{file}`: {e}")))?;
+                .map_err(|e| bad(format!("mesh `{}`: {e}", file.display())))?;
                 (Geometry::Mesh(Box::new(mesh)), Pose::identity())
             }
         };
@@ -180,7 +173,7 @@ impl Obstacle {
             Geometry::Cuboid(s) => aabb_of(s, &pose),
             Geometry::Mesh(s) => aabb_of(s.as_ref(), &pose),
         };
-        let mut obstacle = Obstacle {
+        let mut obstacle = Solid {
             geometry,
             pose,
             friction: spec.friction,

@@ -31,8 +31,8 @@ pub use velocity_verlet::VelocityVerlet;
 pub use verlet::{Verlet, VerletKind};
 
 use super::ForceModel;
+use super::IntegratorParams;
 use crate::math::{Real, Vec3};
-use crate::scene::IntegratorSpec;
 
 /// The physics an integrator advances: accelerations as a function of time and state.
 pub trait Dynamics {
@@ -87,8 +87,8 @@ pub trait Integrator: Send {
     ) -> StepStats;
 }
 
-/// One registered integrator: its scene name and its constructor from the scene's options.
-type Entry = (&'static str, fn(&IntegratorSpec) -> Box<dyn Integrator>);
+/// One registered integrator: its scene name and its constructor from the options.
+type Entry = (&'static str, fn(&IntegratorParams) -> Box<dyn Integrator>);
 
 /// Every integrator, by scene name.
 const REGISTRY: [Entry; 8] = [
@@ -129,23 +129,23 @@ pub struct UnknownIntegrator {
     pub name: String,
 }
 
-/// A new integrator for the scene's `[integrator]` section (`spec.name` one of [`INTEGRATORS`]).
-pub fn make_integrator(spec: &IntegratorSpec) -> Result<Box<dyn Integrator>, UnknownIntegrator> {
+/// A new integrator called `name` (one of [`INTEGRATORS`]) with these options.
+pub fn make_integrator(
+    name: &str,
+    params: &IntegratorParams,
+) -> Result<Box<dyn Integrator>, UnknownIntegrator> {
     REGISTRY
         .iter()
-        .find(|(n, _)| *n == spec.name)
-        .map(|(_, make)| make(spec))
+        .find(|(n, _)| *n == name)
+        .map(|(_, make)| make(params))
         .ok_or_else(|| UnknownIntegrator {
-            name: spec.name.clone(),
+            name: name.to_owned(),
         })
 }
 
 /// A new integrator by name with default options (tests, experiments).
 pub fn integrator_named(name: &str) -> Result<Box<dyn Integrator>, UnknownIntegrator> {
-    make_integrator(&IntegratorSpec {
-        name: name.to_owned(),
-        ..IntegratorSpec::default()
-    })
+    make_integrator(name, &IntegratorParams::default())
 }
 
 /// Resizes a scratch buffer to `n` slots; allocates only when `n` grows past the capacity.

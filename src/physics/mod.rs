@@ -5,7 +5,8 @@
 //! changes. Per-vertex arrays are indexed by vertex slot; free slots and pinned vertices have
 //! `inv_mass = 0` and never move.
 //!
-//! Files: `elements` (the flat [`Springs`] and [`Bends`] arrays), `forces` ([`ForceModel`]: vertex
+//! Files: `params` (the physics' own parameters: [`Material`], [`Forces`], [`IntegratorParams`]),
+//! `elements` (the flat [`Springs`] and [`Bends`] arrays), `forces` ([`ForceModel`]: vertex
 //! parameters and force kernels), `integrator` (the [`Dynamics`] and [`Integrator`] traits, the
 //! registry) with one file per integrator under `integrator/`, `experiments` (seed 004's
 //! single-particle integrator experiments and the convergence-order study).
@@ -15,6 +16,7 @@ pub mod experiments;
 mod forces;
 mod integrator;
 mod limits;
+mod params;
 
 #[cfg(test)]
 mod tests;
@@ -25,3 +27,4 @@ pub use integrator::{
     integrator_named, make_integrator, Dynamics, ExplicitEuler, ImplicitEuler, Integrator, Rk4,
     StepStats, SymplecticEuler, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
 };
+pub use params::{Forces, IntegratorParams, Material, SpringMode, StiffnessModel};

@@ -34,7 +34,7 @@ use super::{fit, Dynamics, Integrator, StepStats};
 use crate::math::{Mat3, Real, Vec3};
 use crate::physics::forces::bend_modes;
 use crate::physics::ForceModel;
-use crate::scene::SpringMode;
+use crate::physics::SpringMode;
 
 /// Linearised backward Euler solved by block-Jacobi preconditioned conjugate gradients.
 #[derive(Clone, Debug)]

@@ -32,7 +32,7 @@
 
 use super::{fit, Dynamics, Integrator, StepStats};
 use crate::math::{Real, Vec3};
-use crate::scene::SpringMode;
+use crate::physics::SpringMode;
 
 /// Which member of the Verlet family.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
