@@ -230,26 +230,12 @@ impl Obstacles {
             }
 
             // Margin: push out of every obstacle, removing the inward normal velocity.
-            let mut settled = false;
-            for _ in 0..PUSH_OUT_SWEEPS {
-                let mut moved = false;
-                for ob in &self.obstacles {
-                    if !ob.overlaps(p, p, margin) {
-                        continue;
-                    }
-                    if let Some(proj) = ob.project_near(p, margin - MARGIN_SLACK) {
-                        let mu = 0.5 * (cloth_mu + ob.friction);
-                        vel = collide_velocity(vel, proj.normal, 0.0, mu);
-                        p = proj.point + proj.normal * margin;
-                        moved = true;
-                    }
-                }
-                contact |= moved;
-                if !moved {
-                    settled = true;
-                    break;
-                }
-            }
+            let (q, pushed, settled) = self.push_out_glam(p, |ob, normal| {
+                let mu = 0.5 * (cloth_mu + ob.friction);
+                vel = collide_velocity(vel, normal, 0.0, mu);
+            });
+            p = q;
+            contact |= pushed;
             if !contact {
                 continue;
             }
@@ -280,24 +266,39 @@ impl Obstacles {
     /// margin, along the projection direction; returns the new point (unchanged if clear). For
     /// vertices created by adaptation.
     pub fn push_out(&self, p: Vec3) -> Vec3 {
+        to_na(self.push_out_glam(to_glam(p), |_, _| {}).0)
+    }
+
+    /// Moves `p` out to the margin of every obstacle it is inside or closer than the margin to,
+    /// along the projection direction, sweeping over the obstacles up to [`PUSH_OUT_SWEEPS`]
+    /// times; `on_push` hears each push before it happens (the obstacle and its outward normal).
+    /// Returns the final point, whether any push happened, and whether a sweep found nothing left
+    /// to push (settled).
+    fn push_out_glam(
+        &self,
+        mut p: Vector,
+        mut on_push: impl FnMut(&Solid, Vector),
+    ) -> (Vector, bool, bool) {
         let margin = self.margin;
-        let mut q = to_glam(p);
+        let mut pushed = false;
         for _ in 0..PUSH_OUT_SWEEPS {
             let mut moved = false;
             for ob in &self.obstacles {
-                if !ob.overlaps(q, q, margin) {
+                if !ob.overlaps(p, p, margin) {
                     continue;
                 }
-                if let Some(proj) = ob.project_near(q, margin - MARGIN_SLACK) {
-                    q = proj.point + proj.normal * margin;
+                if let Some(proj) = ob.project_near(p, margin - MARGIN_SLACK) {
+                    on_push(ob, proj.normal);
+                    p = proj.point + proj.normal * margin;
                     moved = true;
                 }
             }
+            pushed |= moved;
             if !moved {
-                break;
+                return (p, pushed, true);
             }
         }
-        to_na(q)
+        (p, pushed, false)
     }
 
     /// Edge query for the adaptivity criteria: does the segment `a -> b` (m) enter an obstacle or

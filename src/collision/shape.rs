@@ -13,6 +13,7 @@ use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayCullingMo
 use parry3d_f64::shape::{
     Ball, Cuboid, Cylinder, FeatureId, HalfSpace, Shape, TriMesh, TriMeshFlags,
 };
+use std::path::Path;
 
 /// Below this length (m) a projection offset is treated as zero and the normal comes from the
 /// shape's own geometry instead.
@@ -145,23 +146,10 @@ impl Solid {
                 file,
                 scale,
                 translation,
-            } => {
-                let scale = positive(index, "mesh scale", *scale)?;
-                let translation = finite3(index, "mesh translation", *translation)?;
-                let obj = read_obj(file)?;
-                let vertices = obj
-                    .vertices
-                    .iter()
-                    .map(|&v| to_glam(v) * scale + translation)
-                    .collect();
-                let mesh = TriMesh::with_flags(
-                    vertices,
-                    obj.triangles,
-                    TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES,
-                )
-                .map_err(|e| bad(format!("mesh `{}`: {e}", file.display())))?;
-                (Geometry::Mesh(Box::new(mesh)), Pose::identity())
-            }
+            } => (
+                mesh_geometry(index, file, *scale, *translation)?,
+                Pose::identity(),
+            ),
         };
         let (lo, hi) = match &geometry {
             Geometry::Ground(_) => (
@@ -357,6 +345,33 @@ impl Solid {
         };
         self.pose.rotation * n
     }
+}
+
+/// The triangle mesh of obstacle `index` read from `file`, scaled then translated (m).
+fn mesh_geometry(
+    index: usize,
+    file: &Path,
+    scale: Real,
+    translation: [Real; 3],
+) -> Result<Geometry, CollisionError> {
+    let scale = positive(index, "mesh scale", scale)?;
+    let translation = finite3(index, "mesh translation", translation)?;
+    let obj = read_obj(file)?;
+    let vertices = obj
+        .vertices
+        .iter()
+        .map(|&v| to_glam(v) * scale + translation)
+        .collect();
+    let mesh = TriMesh::with_flags(
+        vertices,
+        obj.triangles,
+        TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES,
+    )
+    .map_err(|e| CollisionError::BadShape {
+        index,
+        message: format!("mesh `{}`: {e}", file.display()),
+    })?;
+    Ok(Geometry::Mesh(Box::new(mesh)))
 }
 
 fn aabb_of(shape: &dyn Shape, pose: &Pose) -> (Vector, Vector) {

@@ -24,7 +24,7 @@ mod tests;
 pub use elements::{Bends, Springs};
 pub use forces::{Energies, ForceModel};
 pub use integrator::{
-    integrator_named, make_integrator, Dynamics, ExplicitEuler, ImplicitEuler, Integrator, Rk4,
-    StepStats, SymplecticEuler, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
+    integrator_named, make_integrator, Dynamics, Euler, EulerKind, ImplicitEuler, Integrator, Rk4,
+    Step, StepStats, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
 };
 pub use params::{Forces, IntegratorParams, Material, SpringMode, StiffnessModel};
