@@ -8,8 +8,8 @@
 
 use adaptcloth::math::{Real, Vec3};
 use adaptcloth::mesh::{union_jack, Mesh};
-use adaptcloth::physics::{integrator_named, ForceModel};
-use adaptcloth::scene::{ForcesSpec, MaterialSpec, TimeSpec};
+use adaptcloth::physics::{integrator_named, ForceModel, Forces, Material};
+use adaptcloth::scene::TimeSpec;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -41,21 +41,21 @@ fn state(mesh: &Mesh, seed: u64) -> (Vec<Vec3>, Vec<Vec3>) {
     (x, v)
 }
 
-fn model(mesh: &Mesh, forces: &ForcesSpec) -> ForceModel {
-    let mut m = ForceModel::new(&MaterialSpec::default(), forces);
+fn model(mesh: &Mesh, forces: &Forces) -> ForceModel {
+    let mut m = ForceModel::new(&Material::default(), forces);
     m.rebuild(mesh);
     m
 }
 
-fn only(springs: bool, bending: bool) -> ForcesSpec {
-    ForcesSpec {
+fn only(springs: bool, bending: bool) -> Forces {
+    Forces {
         springs,
         spring_damping: springs,
         bending,
         bending_damping: bending,
         gravity: false,
         drag: false,
-        ..ForcesSpec::default()
+        ..Forces::default()
     }
 }
 
@@ -70,7 +70,7 @@ fn force_kernels(c: &mut Criterion) {
         let (x, v) = state(&mesh, 1);
         let mut f = vec![Vec3::zeros(); x.len()];
         let cases = [
-            ("forces", ForcesSpec::default()),
+            ("forces", Forces::default()),
             ("springs", only(true, false)),
             ("bending", only(false, true)),
         ];
@@ -98,7 +98,7 @@ fn integrator_steps(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(2));
     for n in SIZES {
         let mesh = union_jack(n, n, 1.0, 1.0);
-        let m = model(&mesh, &ForcesSpec::default());
+        let m = model(&mesh, &Forces::default());
         // The scene's default safety factor: the spring damping (alpha = 0.01) needs it, a larger
         // factor lets the state diverge and the bench would time NaN arithmetic.
         let dt = m.stable_step(TimeSpec::default().beta);

@@ -6,8 +6,7 @@
 
 use crate::math::{Real, Vec3};
 use crate::mesh::{Barycentric, Mesh};
-use crate::physics::ForceModel;
-use crate::scene::{ForcesSpec, MaterialSpec};
+use crate::physics::{ForceModel, Forces, Material};
 
 /// Mesh + world state + physical parameters.
 pub struct Cloth {
@@ -29,8 +28,8 @@ impl Cloth {
         mesh: Mesh,
         positions: Vec<Vec3>,
         velocity: Vec3,
-        material: &MaterialSpec,
-        forces: &ForcesSpec,
+        material: &Material,
+        forces: &Forces,
     ) -> Cloth {
         let mut model = ForceModel::new(material, forces);
         model.rebuild(&mesh);

@@ -46,3 +46,5 @@ pub mod sim;
 #[path = "../strategies/mod.rs"]
 pub mod strategies;
 pub mod study;
+#[cfg(test)]
+mod testing;

@@ -6,11 +6,11 @@
 //! the selection; what they know per edge (age since refinement, a depth-dependent curvature
 //! limit) reaches the criteria through [`EdgeInfo`].
 
+use super::AdaptParams;
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::{Real, Vec3};
 use crate::mesh::{EdgeKey, Mesh};
-use crate::scene::AdaptivitySpec;
 
 /// Why an edge was selected for refinement.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -90,13 +90,13 @@ pub fn face_normal(cloth: &Cloth, f: crate::mesh::FaceId) -> Vec3 {
 }
 
 /// Rest area (m²) of an equilateral triangle of side `l_max`: `A_max` of MODEL.md §7.
-pub fn max_area(spec: &AdaptivitySpec) -> Real {
+pub fn max_area(spec: &AdaptParams) -> Real {
     Real::sqrt(3.0) / 4.0 * spec.l_max * spec.l_max
 }
 
 /// The area-scaled curvature refinement limit (rad): `theta_max (A_max / A_e)^exponent`, with
 /// `theta_max = acos(cos_refine)`, capped at pi.
-pub fn area_scaled_angle(spec: &AdaptivitySpec, mean_face_area: Real) -> Real {
+pub fn area_scaled_angle(spec: &AdaptParams, mean_face_area: Real) -> Real {
     let theta_max = spec.cos_refine.clamp(-1.0, 1.0).acos();
     if mean_face_area <= 0.0 {
         return std::f64::consts::PI;
@@ -120,7 +120,7 @@ fn mean_adjacent_area(mesh: &Mesh, e: EdgeKey) -> Real {
 pub fn select(
     cloth: &Cloth,
     obstacles: &Obstacles,
-    spec: &AdaptivitySpec,
+    spec: &AdaptParams,
     info: &dyn EdgeInfo,
 ) -> Selection {
     let mesh = &cloth.mesh;
@@ -181,7 +181,7 @@ fn old_enough(age: Option<Real>, threshold: Real) -> bool {
 /// `t_simplify` and it is not selected for refinement. One pass; results stay in key order.
 fn smooth(
     mesh: &Mesh,
-    spec: &AdaptivitySpec,
+    spec: &AdaptParams,
     info: &dyn EdgeInfo,
     refine: &mut Vec<(EdgeKey, RefineReason)>,
     simplify: &mut Vec<EdgeKey>,
@@ -235,39 +235,25 @@ fn smooth(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{union_jack, VertexId};
-    use crate::scene::{CollisionSpec, ForcesSpec, MaterialSpec, ObstacleShape, ObstacleSpec};
-    use std::path::Path;
+    use crate::collision::{Obstacle, ObstacleShape};
+    use crate::mesh::VertexId;
+    use crate::testing;
 
     /// A flat `n` x `n` grid of 1 m x 1 m at height z (world = rest lifted).
     fn flat_cloth(n: usize, z: Real) -> Cloth {
-        let mesh = union_jack(n, n, 1.0, 1.0);
-        let x = mesh
-            .vertices()
-            .map(|v| {
-                let p = mesh.rest(v);
-                Vec3::new(p.x, p.y, z)
-            })
-            .collect();
-        Cloth::new(
-            mesh,
-            x,
-            Vec3::zeros(),
-            &MaterialSpec::default(),
-            &ForcesSpec::default(),
-        )
+        testing::flat_cloth(n, Vec3::new(0.0, 0.0, z))
     }
 
-    fn spec() -> AdaptivitySpec {
-        AdaptivitySpec {
+    fn spec() -> AdaptParams {
+        AdaptParams {
             l_min: 0.05,
             l_max: 0.6,
-            ..AdaptivitySpec::default()
+            ..AdaptParams::default()
         }
     }
 
     fn no_obstacles() -> Obstacles {
-        Obstacles::build(&[], &CollisionSpec::default(), Path::new(".")).unwrap()
+        testing::obstacles(&[])
     }
 
     fn reason(sel: &Selection, e: EdgeKey) -> Option<RefineReason> {
@@ -309,7 +295,7 @@ mod tests {
     fn size_limit_blocks_refinement_of_short_edges() {
         let mut cloth = flat_cloth(4, 0.0);
         cloth.x[1] = cloth.x[0] + (cloth.x[1] - cloth.x[0]) * 0.5;
-        let s = AdaptivitySpec {
+        let s = AdaptParams {
             l_min: 0.4, // above every rest length of a 4x4 grid's axis edges (1/3 m)
             ..spec()
         };
@@ -320,16 +306,11 @@ mod tests {
 
     #[test]
     fn edge_crossing_an_obstacle_steeply_is_refined_but_flat_contact_is_not() {
-        let sphere = ObstacleSpec {
-            shape: ObstacleShape::Sphere {
-                center: [0.5, 0.5, -0.25],
-                radius: 0.3,
-            },
-            friction: 0.0,
-            restitution: 0.0,
-        };
-        let obstacles =
-            Obstacles::build(&[sphere], &CollisionSpec::default(), Path::new(".")).unwrap();
+        let sphere = Obstacle::new(ObstacleShape::Sphere {
+            center: [0.5, 0.5, -0.25],
+            radius: 0.3,
+        });
+        let obstacles = testing::obstacles(&[sphere]);
         // A flat cloth at z = 0 cuts the sphere's cap: edges near (0.5, 0.5) cross it where the
         // sphere's normal is tilted from the cloth's by more than the flat-contact angle at the
         // cap's rim.
@@ -342,13 +323,8 @@ mod tests {
             "{sel:?}"
         );
         // Lying on the ground (contact normal = face normal): flat contact, no collision refinement.
-        let ground = ObstacleSpec {
-            shape: ObstacleShape::Ground { height: 0.0 },
-            friction: 0.0,
-            restitution: 0.0,
-        };
-        let obstacles =
-            Obstacles::build(&[ground], &CollisionSpec::default(), Path::new(".")).unwrap();
+        let ground = Obstacle::new(ObstacleShape::Ground { height: 0.0 });
+        let obstacles = testing::obstacles(&[ground]);
         let cloth = flat_cloth(5, -1e-4);
         let sel = select(&cloth, &obstacles, &spec(), &NoHistory);
         assert!(sel.refine.is_empty(), "{sel:?}");
@@ -394,7 +370,7 @@ mod tests {
         let old = select(&cloth, &no_obstacles(), &s, &Aged(s.t_simplify));
         assert!(!old.simplify.is_empty());
         // Longer than l_max: never simplified.
-        let s = AdaptivitySpec {
+        let s = AdaptParams {
             l_max: 0.1,
             l_min: 0.05,
             ..spec()
@@ -413,7 +389,7 @@ mod tests {
         let with = select(
             &cloth,
             &no_obstacles(),
-            &AdaptivitySpec { c2: 0.75, ..spec() },
+            &AdaptParams { c2: 0.75, ..spec() },
             &NoHistory,
         );
         let smoothing: Vec<_> = with
@@ -426,7 +402,7 @@ mod tests {
         let without = select(
             &cloth,
             &no_obstacles(),
-            &AdaptivitySpec { c2: 0.70, ..spec() },
+            &AdaptParams { c2: 0.70, ..spec() },
             &NoHistory,
         );
         assert!(without

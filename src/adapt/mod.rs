@@ -10,10 +10,12 @@
 //! rebuilt by the simulation before the next step.
 
 pub mod criteria;
+mod params;
 mod target;
 mod transfer;
 
 pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
+pub use params::AdaptParams;
 pub use target::{ClothTarget, EditTarget};
 pub use transfer::{
     apply_edit, apply_edit_with, restore_kinetic_energy, Transfer, TransferOptions,
@@ -23,7 +25,6 @@ use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::Real;
 use crate::mesh::EditError;
-use crate::scene::AdaptivitySpec;
 
 /// What a strategy sees besides the cloth.
 pub struct AdaptContext<'a> {
@@ -31,8 +32,8 @@ pub struct AdaptContext<'a> {
     pub obstacles: &'a Obstacles,
     /// Simulated time (s) at the end of the step just taken.
     pub time: Real,
-    /// The scene's adaptivity parameters.
-    pub spec: &'a AdaptivitySpec,
+    /// The adaptivity parameters.
+    pub params: &'a AdaptParams,
 }
 
 impl AdaptContext<'_> {
@@ -45,8 +46,8 @@ impl AdaptContext<'_> {
             cloth,
             TransferOptions {
                 obstacles: Some(self.obstacles),
-                restore_momentum: self.spec.restore_momentum,
-                restore_energy: self.spec.restore_energy,
+                restore_momentum: self.params.restore_momentum,
+                restore_energy: self.params.restore_energy,
             },
         )
     }

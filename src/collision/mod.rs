@@ -22,17 +22,17 @@
 mod cylinder_ray;
 mod error;
 mod grid;
+mod params;
 mod shape;
 #[cfg(test)]
 mod tests;
 
 pub use error::CollisionError;
+pub use params::{ContactParams, Obstacle, ObstacleShape};
 
 use crate::math::{Real, Vec3};
-use crate::scene::{CollisionSpec, ObstacleSpec};
 use parry3d_f64::math::Vector;
-use shape::{to_glam, to_na, Obstacle};
-use std::path::Path;
+use shape::{to_glam, to_na, Solid};
 
 /// How many push-out sweeps over the obstacles a point gets (a point wedged between two
 /// obstacles may be pushed back and forth; after this many sweeps the last position stands).
@@ -44,7 +44,7 @@ const MARGIN_SLACK: Real = 1e-9;
 
 /// All static obstacles of a scene, the collision margin and the default restitution.
 pub struct Obstacles {
-    obstacles: Vec<Obstacle>,
+    obstacles: Vec<Solid>,
     margin: Real,
     restitution: Real,
 }
@@ -108,30 +108,29 @@ fn collide_velocity(v: Vector, n: Vector, gamma: Real, mu: Real) -> Vector {
 }
 
 impl Obstacles {
-    /// Builds the obstacles; mesh files are resolved relative to `base_dir`.
+    /// Builds the obstacles with these contact parameters.
     ///
     /// Errors: a non-positive or non-finite radius, height, half extent or scale, a non-finite
     /// position, a negative margin, or a mesh file that is missing, unreadable, malformed or
     /// has no faces.
     pub fn build(
-        specs: &[ObstacleSpec],
-        collision: &CollisionSpec,
-        base_dir: &Path,
+        obstacles: &[Obstacle],
+        contact: &ContactParams,
     ) -> Result<Obstacles, CollisionError> {
-        if !(collision.margin.is_finite() && collision.margin >= 0.0) {
+        if !(contact.margin.is_finite() && contact.margin >= 0.0) {
             return Err(CollisionError::BadParameter {
-                message: format!("margin must be >= 0, got {}", collision.margin),
+                message: format!("margin must be >= 0, got {}", contact.margin),
             });
         }
-        let obstacles = specs
+        let obstacles = obstacles
             .iter()
             .enumerate()
-            .map(|(index, spec)| Obstacle::build(index, spec, base_dir, 2.0 * collision.margin))
+            .map(|(index, o)| Solid::build(index, o, 2.0 * contact.margin))
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Obstacles {
             obstacles,
-            margin: collision.margin,
-            restitution: collision.restitution,
+            margin: contact.margin,
+            restitution: contact.restitution,
         })
     }
 
@@ -152,7 +151,7 @@ impl Obstacles {
 
     /// Restitution of obstacle `ob`: its own if positive, else the default.
     #[inline]
-    fn gamma(&self, ob: &Obstacle) -> Real {
+    fn gamma(&self, ob: &Solid) -> Real {
         if ob.restitution > 0.0 {
             ob.restitution
         } else {
@@ -230,26 +229,12 @@ impl Obstacles {
             }
 
             // Margin: push out of every obstacle, removing the inward normal velocity.
-            let mut settled = false;
-            for _ in 0..PUSH_OUT_SWEEPS {
-                let mut moved = false;
-                for ob in &self.obstacles {
-                    if !ob.overlaps(p, p, margin) {
-                        continue;
-                    }
-                    if let Some(proj) = ob.project_near(p, margin - MARGIN_SLACK) {
-                        let mu = 0.5 * (cloth_mu + ob.friction);
-                        vel = collide_velocity(vel, proj.normal, 0.0, mu);
-                        p = proj.point + proj.normal * margin;
-                        moved = true;
-                    }
-                }
-                contact |= moved;
-                if !moved {
-                    settled = true;
-                    break;
-                }
-            }
+            let (q, pushed, settled) = self.push_out_glam(p, |ob, normal| {
+                let mu = 0.5 * (cloth_mu + ob.friction);
+                vel = collide_velocity(vel, normal, 0.0, mu);
+            });
+            p = q;
+            contact |= pushed;
             if !contact {
                 continue;
             }
@@ -280,24 +265,39 @@ impl Obstacles {
     /// margin, along the projection direction; returns the new point (unchanged if clear). For
     /// vertices created by adaptation.
     pub fn push_out(&self, p: Vec3) -> Vec3 {
+        to_na(self.push_out_glam(to_glam(p), |_, _| {}).0)
+    }
+
+    /// Moves `p` out to the margin of every obstacle it is inside or closer than the margin to,
+    /// along the projection direction, sweeping over the obstacles up to [`PUSH_OUT_SWEEPS`]
+    /// times; `on_push` hears each push before it happens (the obstacle and its outward normal).
+    /// Returns the final point, whether any push happened, and whether a sweep found nothing left
+    /// to push (settled).
+    fn push_out_glam(
+        &self,
+        mut p: Vector,
+        mut on_push: impl FnMut(&Solid, Vector),
+    ) -> (Vector, bool, bool) {
         let margin = self.margin;
-        let mut q = to_glam(p);
+        let mut pushed = false;
         for _ in 0..PUSH_OUT_SWEEPS {
             let mut moved = false;
             for ob in &self.obstacles {
-                if !ob.overlaps(q, q, margin) {
+                if !ob.overlaps(p, p, margin) {
                     continue;
                 }
-                if let Some(proj) = ob.project_near(q, margin - MARGIN_SLACK) {
-                    q = proj.point + proj.normal * margin;
+                if let Some(proj) = ob.project_near(p, margin - MARGIN_SLACK) {
+                    on_push(ob, proj.normal);
+                    p = proj.point + proj.normal * margin;
                     moved = true;
                 }
             }
+            pushed |= moved;
             if !moved {
-                break;
+                return (p, pushed, true);
             }
         }
-        to_na(q)
+        (p, pushed, false)
     }
 
     /// Edge query for the adaptivity criteria: does the segment `a -> b` (m) enter an obstacle or

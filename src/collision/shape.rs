@@ -5,8 +5,8 @@
 use super::cylinder_ray::cylinder_entry;
 use super::error::CollisionError;
 use super::grid::DistanceGrid;
+use super::params::{Obstacle, ObstacleShape};
 use crate::math::{Real, Vec3};
-use crate::scene::{ObstacleShape, ObstacleSpec};
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayCullingMode};
 use parry3d_f64::shape::{
@@ -55,8 +55,8 @@ pub(crate) struct Projection {
     pub distance: Real,
 }
 
-/// One static obstacle.
-pub(crate) struct Obstacle {
+/// One static obstacle, built: its parry3d shape, pose, contact parameters and bounds.
+pub(crate) struct Solid {
     geometry: Geometry,
     pose: Pose,
     /// Friction coefficient of the surface.
@@ -92,16 +92,10 @@ fn finite3(index: usize, what: &str, v: [Real; 3]) -> Result<Vector, CollisionEr
     }
 }
 
-impl Obstacle {
-    /// Builds obstacle number `index` of the scene; mesh files are relative to `base_dir`.
-    /// For meshes, a coarse signed-distance grid covering the AABB grown by `grid_pad` (m) is
+impl Solid {
+    /// Builds obstacle number `index` of the list. For meshes, a coarse signed-distance grid covering the AABB grown by `grid_pad` (m) is
     /// sampled as a mid phase (see `grid`).
-    pub fn build(
-        index: usize,
-        spec: &ObstacleSpec,
-        base_dir: &Path,
-        grid_pad: Real,
-    ) -> Result<Obstacle, CollisionError> {
+    pub fn build(index: usize, spec: &Obstacle, grid_pad: Real) -> Result<Solid, CollisionError> {
         let bad = |message: String| CollisionError::BadShape { index, message };
         let (geometry, pose) = match &spec.shape {
             ObstacleShape::Ground { height } => {
@@ -151,29 +145,10 @@ impl Obstacle {
                 file,
                 scale,
                 translation,
-            } => {
-                let scale = positive(index, "mesh scale", *scale)?;
-                let translation = finite3(index, "mesh translation", *translation)?;
-                let obj = crate::io::read_obj(&base_dir.join(file))?;
-                if obj.faces.is_empty() {
-                    return Err(bad(format!(
-                        "mesh `{file}`: no faces: an obstacle mesh needs at least one `f` line"
-                    )));
-                }
-                let vertices = obj
-                    .positions
-                    .iter()
-                    .map(|&[x, y, z]| Vector::new(x, y, z) * scale + translation)
-                    .collect();
-                let triangles = obj.triangles().map(|(_, t)| t.map(|i| i as u32)).collect();
-                let mesh = TriMesh::with_flags(
-                    vertices,
-                    triangles,
-                    TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES,
-                )
-                .map_err(|e| bad(format!("mesh `{file}`: {e}")))?;
-                (Geometry::Mesh(Box::new(mesh)), Pose::identity())
-            }
+            } => (
+                mesh_geometry(index, file, *scale, *translation)?,
+                Pose::identity(),
+            ),
         };
         let (lo, hi) = match &geometry {
             Geometry::Ground(_) => (
@@ -185,7 +160,7 @@ impl Obstacle {
             Geometry::Cuboid(s) => aabb_of(s, &pose),
             Geometry::Mesh(s) => aabb_of(s.as_ref(), &pose),
         };
-        let mut obstacle = Obstacle {
+        let mut obstacle = Solid {
             geometry,
             pose,
             friction: spec.friction,
@@ -369,6 +344,43 @@ impl Obstacle {
         };
         self.pose.rotation * n
     }
+}
+
+/// The triangle mesh of obstacle `index` read from `file`, scaled then translated (m).
+fn mesh_geometry(
+    index: usize,
+    file: &Path,
+    scale: Real,
+    translation: [Real; 3],
+) -> Result<Geometry, CollisionError> {
+    let scale = positive(index, "mesh scale", scale)?;
+    let translation = finite3(index, "mesh translation", translation)?;
+    let obj = crate::io::read_obj(file)?;
+    if obj.faces.is_empty() {
+        return Err(CollisionError::BadShape {
+            index,
+            message: format!(
+                "mesh `{}`: no faces: an obstacle mesh needs at least one `f` line",
+                file.display()
+            ),
+        });
+    }
+    let vertices = obj
+        .positions
+        .iter()
+        .map(|&[x, y, z]| Vector::new(x, y, z) * scale + translation)
+        .collect();
+    let triangles = obj.triangles().map(|(_, t)| t.map(|i| i as u32)).collect();
+    let mesh = TriMesh::with_flags(
+        vertices,
+        triangles,
+        TriMeshFlags::ORIENTED | TriMeshFlags::MERGE_DUPLICATE_VERTICES,
+    )
+    .map_err(|e| CollisionError::BadShape {
+        index,
+        message: format!("mesh `{}`: {e}", file.display()),
+    })?;
+    Ok(Geometry::Mesh(Box::new(mesh)))
 }
 
 fn aabb_of(shape: &dyn Shape, pose: &Pose) -> (Vector, Vector) {

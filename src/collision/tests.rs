@@ -2,29 +2,27 @@
 //! queries, and the bunny mesh.
 
 use super::*;
-use crate::scene::{ObstacleShape, ObstacleSpec};
 use std::path::PathBuf;
 
 const MARGIN: Real = 2e-3;
 const GAMMA: Real = 0.5;
 
-fn collision() -> CollisionSpec {
-    CollisionSpec {
+fn collision() -> ContactParams {
+    ContactParams {
         margin: MARGIN,
         restitution: GAMMA,
     }
 }
 
-fn spec(shape: ObstacleShape, friction: Real) -> ObstacleSpec {
-    ObstacleSpec {
-        shape,
+fn spec(shape: ObstacleShape, friction: Real) -> Obstacle {
+    Obstacle {
         friction,
-        restitution: 0.0,
+        ..Obstacle::new(shape)
     }
 }
 
-fn build(specs: &[ObstacleSpec]) -> Obstacles {
-    Obstacles::build(specs, &collision(), Path::new(".")).expect("valid obstacles")
+fn build(specs: &[Obstacle]) -> Obstacles {
+    Obstacles::build(specs, &collision()).expect("valid obstacles")
 }
 
 fn ground(friction: Real) -> Obstacles {
@@ -70,14 +68,13 @@ fn bunny() -> Obstacles {
     Obstacles::build(
         &[spec(
             ObstacleShape::Mesh {
-                file: "scenes/meshes/bunny.obj".into(),
+                file: manifest_dir().join("scenes/meshes/bunny.obj"),
                 scale: 1.0,
                 translation: [0.0; 3],
             },
             0.0,
         )],
         &collision(),
-        &manifest_dir(),
     )
     .expect("bunny loads")
 }
@@ -428,7 +425,6 @@ fn build_rejects_bad_shapes_and_files() {
     let err = Obstacles::build(
         &[spec(ObstacleShape::Ground { height: 0.0 }, 0.0), bad_radius],
         &collision(),
-        Path::new("."),
     )
     .err()
     .expect("error");
@@ -444,7 +440,7 @@ fn build_rejects_bad_shapes_and_files() {
         },
         0.0,
     );
-    assert!(Obstacles::build(&[bad_box], &collision(), Path::new(".")).is_err());
+    assert!(Obstacles::build(&[bad_box], &collision()).is_err());
 
     let missing = spec(
         ObstacleShape::Mesh {
@@ -454,7 +450,7 @@ fn build_rejects_bad_shapes_and_files() {
         },
         0.0,
     );
-    let err = Obstacles::build(&[missing], &collision(), Path::new("."))
+    let err = Obstacles::build(&[missing], &collision())
         .err()
         .expect("error");
     assert!(
@@ -473,7 +469,7 @@ fn mesh_obstacle_files_report_the_line_and_need_faces() {
         std::fs::write(dir.path().join(name), text).unwrap();
         spec(
             ObstacleShape::Mesh {
-                file: name.into(),
+                file: dir.path().join(name),
                 scale: 1.0,
                 translation: [0.0; 3],
             },
@@ -481,7 +477,7 @@ fn mesh_obstacle_files_report_the_line_and_need_faces() {
         )
     };
     let bad_line = mesh("bad.obj", "v 0 0 0\nv 1 0 0\nf 1 2 7\n");
-    let err = Obstacles::build(&[bad_line], &collision(), dir.path())
+    let err = Obstacles::build(&[bad_line], &collision())
         .err()
         .expect("error");
     assert!(
@@ -492,7 +488,7 @@ fn mesh_obstacle_files_report_the_line_and_need_faces() {
         "{err}"
     );
     let no_faces = mesh("empty.obj", "v 0 0 0\n");
-    let err = Obstacles::build(&[no_faces], &collision(), dir.path())
+    let err = Obstacles::build(&[no_faces], &collision())
         .err()
         .expect("error");
     assert!(err.to_string().contains("no faces"), "{err}");

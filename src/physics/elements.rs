@@ -5,9 +5,9 @@
 //! only on the mesh topology and rest geometry and are rebuilt when the mesh changes, reusing their
 //! allocations.
 
+use super::params::{Material, StiffnessModel};
 use crate::math::Real;
 use crate::mesh::{EdgeKey, Mesh, VertexId};
-use crate::scene::{MaterialSpec, StiffnessModel};
 
 /// Every edge of the mesh as a spring, in edge-key order. All arrays have the same length.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -44,7 +44,7 @@ impl Springs {
     }
 
     /// Rebuilds the springs of `mesh` for `material`, reusing the allocations.
-    pub(crate) fn rebuild(&mut self, mesh: &Mesh, material: &MaterialSpec) {
+    pub(crate) fn rebuild(&mut self, mesh: &Mesh, material: &Material) {
         self.clear();
         for (EdgeKey(a, b), faces) in mesh.edges() {
             let rest_length = mesh.rest_length(a, b);

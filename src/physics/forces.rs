@@ -8,9 +8,9 @@
 
 use super::elements::{Bends, Springs};
 use super::integrator::Dynamics;
+use super::params::{Forces, Material, SpringMode};
 use crate::math::{Real, Vec3};
 use crate::mesh::{Mesh, VertexId};
-use crate::scene::{ForcesSpec, MaterialSpec, SpringMode};
 
 /// A bending element is skipped (no force) when a triangle's doubled area `|N|` falls below this
 /// fraction of `|e|²`: the triangle is degenerate (a sliver or collapsed) and its normal undefined.
@@ -23,8 +23,8 @@ const DEGENERATE_RATIO: Real = 1e-12;
 /// [`ForceModel::new`]; call [`ForceModel::rebuild`] for a mesh before evaluating forces.
 #[derive(Clone, Debug)]
 pub struct ForceModel {
-    material: MaterialSpec,
-    switches: ForcesSpec,
+    material: Material,
+    switches: Forces,
     g: Vec3,
     mass: Vec<Real>,
     inv_mass: Vec<Real>,
@@ -38,11 +38,11 @@ pub struct ForceModel {
 
 impl ForceModel {
     /// A model for this material and these force switches, empty until [`ForceModel::rebuild`].
-    pub fn new(material: &MaterialSpec, forces: &ForcesSpec) -> Self {
+    pub fn new(material: &Material, forces: &Forces) -> Self {
         ForceModel {
             material: material.clone(),
             switches: forces.clone(),
-            g: Vec3::from(forces.g),
+            g: forces.g,
             mass: Vec::new(),
             inv_mass: Vec::new(),
             drag: Vec::new(),
@@ -55,12 +55,12 @@ impl ForceModel {
     }
 
     /// The material the model was built for.
-    pub fn material(&self) -> &MaterialSpec {
+    pub fn material(&self) -> &Material {
         &self.material
     }
 
     /// The force switches and gravity the model evaluates.
-    pub fn switches(&self) -> &ForcesSpec {
+    pub fn switches(&self) -> &Forces {
         &self.switches
     }
 
@@ -113,8 +113,8 @@ impl ForceModel {
     /// A model over explicit particles and springs, without a mesh (single-spring tests and the
     /// convergence-order study of `crate::study::integrators`).
     pub(crate) fn from_parts(
-        material: &MaterialSpec,
-        forces: &ForcesSpec,
+        material: &Material,
+        forces: &Forces,
         mass: Vec<Real>,
         pinned: &[bool],
         springs: Springs,

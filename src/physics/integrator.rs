@@ -1,9 +1,11 @@
 //! Time integrators behind one interface (MODEL.md §4).
 //!
 //! An integrator sees the physics only through [`Dynamics`] (accelerations of the whole state), so
-//! every integrator runs over the same force code. One file per integrator under `integrator/`,
-//! named after the scene's `integrator.name`; adding one is adding its file, its `mod` line and
-//! its line in [`REGISTRY`] (which also feeds [`INTEGRATORS`]).
+//! every integrator runs over the same force code. One file per integrator (or family: `euler`,
+//! `verlet`) under `integrator/`, named after the scene's `integrator.name`; adding one is adding
+//! its file, its `mod` line and its line in [`REGISTRY`] (which also feeds [`INTEGRATORS`]).
+//! Integrators implement [`Integrator::advance`]; the provided [`Integrator::step`] does what
+//! every step starts with (fixed slots' velocities zeroed).
 //!
 //! **State and history.** The state is `(x, v)` and nothing else: integrators never keep
 //! per-vertex history across steps. The multi-step schemes (`verlet`, `time_corrected_verlet`,
@@ -16,23 +18,21 @@
 //! its parents' histories (exact for uniform motion, see the test
 //! `verlet_history_of_a_split_vertex_comes_from_the_transfer`).
 
-mod explicit_euler;
+mod euler;
 mod implicit_euler;
 mod rk4;
-mod symplectic_euler;
 mod velocity_verlet;
 mod verlet;
 
-pub use explicit_euler::ExplicitEuler;
+pub use euler::{Euler, EulerKind};
 pub use implicit_euler::ImplicitEuler;
 pub use rk4::Rk4;
-pub use symplectic_euler::SymplecticEuler;
 pub use velocity_verlet::VelocityVerlet;
 pub use verlet::{Verlet, VerletKind};
 
 use super::ForceModel;
+use super::IntegratorParams;
 use crate::math::{Real, Vec3};
-use crate::scene::IntegratorSpec;
 
 /// The physics an integrator advances: accelerations as a function of time and state.
 pub trait Dynamics {
@@ -77,6 +77,9 @@ pub trait Integrator: Send {
     /// Advances positions `x` (m) and velocities `v` (m/s) from time `t` by `dt` (s). Fixed slots
     /// keep their position and get zero velocity. Allocation-free in steady state: scratch
     /// buffers are kept and resized only when the number of slots changes.
+    ///
+    /// Provided: zeroes the velocities of the fixed slots ([`Dynamics::constrain_velocities`]),
+    /// then calls [`Integrator::advance`]. Integrators implement `advance`, not this.
     fn step(
         &mut self,
         dynamics: &dyn Dynamics,
@@ -84,16 +87,40 @@ pub trait Integrator: Send {
         dt: Real,
         x: &mut [Vec3],
         v: &mut [Vec3],
-    ) -> StepStats;
+    ) -> StepStats {
+        debug_assert_eq!(x.len(), v.len());
+        dynamics.constrain_velocities(v);
+        self.advance(dynamics, Step { t, dt, x, v })
+    }
+
+    /// The integrator's own update of one step, called by [`Integrator::step`] once the fixed
+    /// slots' velocities are zero; `x` and `v` have the same length.
+    fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats;
 }
 
-/// One registered integrator: its scene name and its constructor from the scene's options.
-type Entry = (&'static str, fn(&IntegratorSpec) -> Box<dyn Integrator>);
+/// One step to take: the state `(x, v)` at time `t` and the step size.
+pub struct Step<'a> {
+    /// Time at the start of the step (s).
+    pub t: Real,
+    /// Step size (s).
+    pub dt: Real,
+    /// Positions per slot (m), advanced in place.
+    pub x: &'a mut [Vec3],
+    /// Velocities per slot (m/s), advanced in place.
+    pub v: &'a mut [Vec3],
+}
+
+/// One registered integrator: its scene name and its constructor from the options.
+type Entry = (&'static str, fn(&IntegratorParams) -> Box<dyn Integrator>);
 
 /// Every integrator, by scene name.
 const REGISTRY: [Entry; 8] = [
-    ("explicit_euler", |_| Box::new(ExplicitEuler::default())),
-    ("symplectic_euler", |_| Box::new(SymplecticEuler::default())),
+    ("explicit_euler", |_| {
+        Box::new(Euler::new(EulerKind::Explicit))
+    }),
+    ("symplectic_euler", |_| {
+        Box::new(Euler::new(EulerKind::Symplectic))
+    }),
     ("velocity_verlet", |_| Box::new(VelocityVerlet::default())),
     ("verlet", |_| Box::new(Verlet::new(VerletKind::Position))),
     ("time_corrected_verlet", |_| {
@@ -129,28 +156,30 @@ pub struct UnknownIntegrator {
     pub name: String,
 }
 
-/// A new integrator for the scene's `[integrator]` section (`spec.name` one of [`INTEGRATORS`]).
-pub fn make_integrator(spec: &IntegratorSpec) -> Result<Box<dyn Integrator>, UnknownIntegrator> {
+/// A new integrator called `name` (one of [`INTEGRATORS`]) with these options.
+pub fn make_integrator(
+    name: &str,
+    params: &IntegratorParams,
+) -> Result<Box<dyn Integrator>, UnknownIntegrator> {
     REGISTRY
         .iter()
-        .find(|(n, _)| *n == spec.name)
-        .map(|(_, make)| make(spec))
+        .find(|(n, _)| *n == name)
+        .map(|(_, make)| make(params))
         .ok_or_else(|| UnknownIntegrator {
-            name: spec.name.clone(),
+            name: name.to_owned(),
         })
 }
 
 /// A new integrator by name with default options (tests, experiments).
 pub fn integrator_named(name: &str) -> Result<Box<dyn Integrator>, UnknownIntegrator> {
-    make_integrator(&IntegratorSpec {
-        name: name.to_owned(),
-        ..IntegratorSpec::default()
-    })
+    make_integrator(name, &IntegratorParams::default())
 }
 
-/// Resizes a scratch buffer to `n` slots; allocates only when `n` grows past the capacity.
-pub(crate) fn fit(buf: &mut Vec<Vec3>, n: usize) {
-    if buf.len() != n {
-        buf.resize(n, Vec3::zeros());
+/// Resizes scratch buffers to `n` slots; allocates only when `n` grows past a capacity.
+pub(crate) fn fit<const N: usize>(n: usize, bufs: [&mut Vec<Vec3>; N]) {
+    for buf in bufs {
+        if buf.len() != n {
+            buf.resize(n, Vec3::zeros());
+        }
     }
 }

@@ -35,20 +35,20 @@ mod tests {
     use crate::math::{Real, Vec3};
     use crate::mesh::union_jack;
     use crate::physics::{integrator_named, Dynamics, ForceModel};
-    use crate::scene::{ForcesSpec, MaterialSpec};
+    use crate::physics::{Forces, Material};
 
     /// Damping only (no elasticity, gravity or drag), so the step limit is the damping one.
     fn damping_model(n: usize) -> ForceModel {
         let mesh = union_jack(n, n, 1.0, 1.0);
-        let forces = ForcesSpec {
+        let forces = Forces {
             springs: false,
             bending: false,
             bending_damping: false,
             gravity: false,
             drag: false,
-            ..ForcesSpec::default()
+            ..Forces::default()
         };
-        let mut m = ForceModel::new(&MaterialSpec::default(), &forces);
+        let mut m = ForceModel::new(&Material::default(), &forces);
         m.rebuild(&mesh);
         m
     }
@@ -86,11 +86,11 @@ mod tests {
     #[test]
     fn limit_is_infinite_without_spring_damping() {
         let mesh = union_jack(3, 3, 1.0, 1.0);
-        let forces = ForcesSpec {
+        let forces = Forces {
             spring_damping: false,
-            ..ForcesSpec::default()
+            ..Forces::default()
         };
-        let mut m = ForceModel::new(&MaterialSpec::default(), &forces);
+        let mut m = ForceModel::new(&Material::default(), &forces);
         m.rebuild(&mesh);
         assert_eq!(m.damping_step_limit(), Real::INFINITY);
     }

@@ -5,7 +5,8 @@
 //! changes. Per-vertex arrays are indexed by vertex slot; free slots and pinned vertices have
 //! `inv_mass = 0` and never move.
 //!
-//! Files: `elements` (the flat [`Springs`] and [`Bends`] arrays), `forces` ([`ForceModel`]: vertex
+//! Files: `params` (the physics' own parameters: [`Material`], [`Forces`], [`IntegratorParams`]),
+//! `elements` (the flat [`Springs`] and [`Bends`] arrays), `forces` ([`ForceModel`]: vertex
 //! parameters and force kernels), `integrator` (the [`Dynamics`] and [`Integrator`] traits, the
 //! registry) with one file per integrator under `integrator/`. Seed 004's single-particle
 //! experiments that compare the integrators live in `crate::study::integrators`.
@@ -14,6 +15,7 @@ mod elements;
 mod forces;
 mod integrator;
 mod limits;
+mod params;
 
 #[cfg(test)]
 mod tests;
@@ -21,6 +23,7 @@ mod tests;
 pub use elements::{Bends, Springs};
 pub use forces::{Energies, ForceModel};
 pub use integrator::{
-    integrator_named, make_integrator, Dynamics, ExplicitEuler, ImplicitEuler, Integrator, Rk4,
-    StepStats, SymplecticEuler, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
+    integrator_named, make_integrator, Dynamics, Euler, EulerKind, ImplicitEuler, Integrator, Rk4,
+    Step, StepStats, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
 };
+pub use params::{Forces, IntegratorParams, Material, SpringMode, StiffnessModel};

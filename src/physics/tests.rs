@@ -4,23 +4,23 @@ use super::forces::bend_modes;
 use super::*;
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{union_jack, Mesh, VertexId};
-use crate::scene::{ForcesSpec, MaterialSpec, SpringMode, StiffnessModel};
+use crate::physics::{Forces, Material, SpringMode, StiffnessModel};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-fn all_off() -> ForcesSpec {
-    ForcesSpec {
+fn all_off() -> Forces {
+    Forces {
         springs: false,
         spring_damping: false,
         bending: false,
         bending_damping: false,
         gravity: false,
         drag: false,
-        ..ForcesSpec::default()
+        ..Forces::default()
     }
 }
 
-fn built(mesh: &Mesh, material: &MaterialSpec, forces: &ForcesSpec) -> ForceModel {
+fn built(mesh: &Mesh, material: &Material, forces: &Forces) -> ForceModel {
     let mut m = ForceModel::new(material, forces);
     m.rebuild(mesh);
     m
@@ -65,11 +65,11 @@ fn scale(f: &[Vec3]) -> Real {
 fn internal_forces_and_torques_sum_to_zero() {
     let mesh = union_jack(6, 6, 1.0, 1.0);
     for springs in [SpringMode::Tension, SpringMode::Both] {
-        let material = MaterialSpec {
+        let material = Material {
             springs,
-            ..MaterialSpec::default()
+            ..Material::default()
         };
-        let model = built(&mesh, &material, &ForcesSpec::default());
+        let model = built(&mesh, &material, &Forces::default());
         for seed in 0..5 {
             let (mut x, v) = random_state(&mesh, seed, 0.06);
             // Away from the origin, so torques about it are not trivially small.
@@ -93,12 +93,12 @@ fn internal_forces_and_torques_sum_to_zero() {
 fn bending_alone_conserves_momentum() {
     // Bending forces are far smaller than spring forces: check them on their own scale.
     let mesh = union_jack(6, 6, 1.0, 1.0);
-    let forces = ForcesSpec {
+    let forces = Forces {
         bending: true,
         bending_damping: true,
         ..all_off()
     };
-    let model = built(&mesh, &MaterialSpec::default(), &forces);
+    let model = built(&mesh, &Material::default(), &forces);
     let (x, v) = random_state(&mesh, 11, 0.08);
     let f = forces_of(&model, &x, &v);
     let total: Vec3 = f.iter().sum();
@@ -112,15 +112,15 @@ fn bending_alone_conserves_momentum() {
 #[test]
 fn mesh_at_rest_feels_no_spring_or_bending_force() {
     let mesh = union_jack(6, 6, 1.0, 1.0);
-    let forces = ForcesSpec {
+    let forces = Forces {
         gravity: false,
         drag: false,
-        ..ForcesSpec::default()
+        ..Forces::default()
     };
     for springs in [SpringMode::Tension, SpringMode::Both] {
-        let material = MaterialSpec {
+        let material = Material {
             springs,
-            ..MaterialSpec::default()
+            ..Material::default()
         };
         let model = built(&mesh, &material, &forces);
         let x = lifted(&mesh);
@@ -171,20 +171,20 @@ fn fold_angle(x: &[Vec3]) -> Real {
 #[test]
 fn bends_take_their_orientation_from_the_faces() {
     let (mesh, _) = diamond(0.0);
-    let model = built(&mesh, &MaterialSpec::default(), &ForcesSpec::default());
+    let model = built(&mesh, &Material::default(), &Forces::default());
     assert_eq!(model.bends().v, vec![[2, 3, 0, 1]]);
     assert_eq!(model.springs().len(), 5);
 }
 
 #[test]
 fn bending_pushes_a_fold_back_towards_flat() {
-    let forces = ForcesSpec {
+    let forces = Forces {
         bending: true,
         ..all_off()
     };
     for phi in [0.4, -0.4, 0.05, -1.5, 2.5] {
         let (mesh, x) = diamond(phi);
-        let model = built(&mesh, &MaterialSpec::default(), &forces);
+        let model = built(&mesh, &Material::default(), &forces);
         let v = vec![Vec3::zeros(); 4];
         let f = forces_of(&model, &x, &v);
         assert!(scale(&f) > 0.0);
@@ -201,8 +201,8 @@ fn bending_force_matches_bridson_formula() {
     // |N1| = |N2| = 1, so f1 = k_b (1/2) sin(theta/2) N1.
     let phi: Real = 0.6;
     let (mesh, x) = diamond(phi);
-    let material = MaterialSpec::default();
-    let forces = ForcesSpec {
+    let material = Material::default();
+    let forces = Forces {
         bending: true,
         ..all_off()
     };
@@ -220,13 +220,13 @@ fn bending_force_matches_bridson_formula() {
 
 #[test]
 fn bending_damping_opposes_folding_velocity() {
-    let forces = ForcesSpec {
+    let forces = Forces {
         bending_damping: true,
         ..all_off()
     };
     for phi in [0.0, 0.3, -0.8] {
         let (mesh, x) = diamond(phi);
-        let model = built(&mesh, &MaterialSpec::default(), &forces);
+        let model = built(&mesh, &Material::default(), &forces);
         for omega in [1.0, -2.0] {
             // Folding velocity of vertex 2 about the shared edge.
             let mut v = vec![Vec3::zeros(); 4];
@@ -246,7 +246,7 @@ fn bending_damping_opposes_folding_velocity() {
 fn bending_sign_is_consistent_over_a_curved_sheet() {
     // Grid rolled onto a cylinder curving towards +z: every element bends the same way.
     let mesh = union_jack(9, 9, 1.0, 1.0);
-    let model = built(&mesh, &MaterialSpec::default(), &ForcesSpec::default());
+    let model = built(&mesh, &Material::default(), &Forces::default());
     let r = 0.8;
     let x: Vec<Vec3> = lifted(&mesh)
         .iter()
@@ -270,7 +270,7 @@ fn bending_sign_is_consistent_over_a_curved_sheet() {
 #[test]
 fn degenerate_triangles_give_no_nan() {
     let (mesh, mut x) = diamond(0.0);
-    let model = built(&mesh, &MaterialSpec::default(), &ForcesSpec::default());
+    let model = built(&mesh, &Material::default(), &Forces::default());
     let v = vec![Vec3::new(0.0, 0.0, 1.0); 4];
     x[2] = Vec3::new(0.5, 0.0, 0.0); // triangle 0-1-2 collapsed onto the shared edge
     let f = forces_of(&model, &x, &v);
@@ -282,10 +282,10 @@ fn degenerate_triangles_give_no_nan() {
 
 #[test]
 fn total_mass_is_rho_t_times_pattern_area() {
-    let material = MaterialSpec::default();
+    let material = Material::default();
     let expected = |mesh: &Mesh| material.rho * material.thickness * mesh.pattern_area();
     let big = union_jack(9, 7, 1.3, 0.7);
-    let model = built(&big, &material, &ForcesSpec::default());
+    let model = built(&big, &material, &Forces::default());
     let want = expected(&big);
     assert!((model.total_mass() - want).abs() <= 1e-12 * want);
     let area_sum: Real = model.drag().iter().sum::<Real>() / material.kappa;
@@ -293,7 +293,7 @@ fn total_mass_is_rho_t_times_pattern_area() {
 
     // Vertex parameters updated slot by slot after the mesh grew match a full rebuild.
     let small = union_jack(3, 3, 1.3, 0.7);
-    let mut updated = built(&small, &material, &ForcesSpec::default());
+    let mut updated = built(&small, &material, &Forces::default());
     let all: Vec<VertexId> = big.vertices().collect();
     updated.update_vertices(&big, &all);
     assert!((updated.total_mass() - want).abs() <= 1e-12 * want);
@@ -308,7 +308,7 @@ fn pinned_vertices_keep_mass_and_never_move() {
     let mut mesh = union_jack(4, 4, 1.0, 1.0);
     mesh.set_pinned(VertexId(0), true);
     mesh.set_pinned(VertexId(3), true);
-    let model = built(&mesh, &MaterialSpec::default(), &ForcesSpec::default());
+    let model = built(&mesh, &Material::default(), &Forces::default());
     assert!(model.mass()[0] > 0.0);
     assert_eq!(model.inv_mass()[0], 0.0);
     assert_eq!(model.inv_mass()[3], 0.0);
@@ -327,12 +327,12 @@ fn pinned_vertices_keep_mass_and_never_move() {
 #[test]
 fn free_fall_is_exact_with_rk4_and_known_with_symplectic_euler() {
     let mesh = union_jack(5, 5, 1.0, 1.0);
-    let forces = ForcesSpec {
+    let forces = Forces {
         gravity: true,
         ..all_off()
     };
-    let model = built(&mesh, &MaterialSpec::default(), &forces);
-    let g = Vec3::from(forces.g);
+    let model = built(&mesh, &Material::default(), &forces);
+    let g = forces.g;
     let v0 = Vec3::new(0.2, -0.1, 0.5);
     let (dt, n) = (1e-3, 100);
     for name in ["rk4", "symplectic_euler"] {
@@ -368,11 +368,11 @@ fn free_fall_is_exact_with_rk4_and_known_with_symplectic_euler() {
 /// One spring of stiffness `k` (N/m) and damping `kd` (N s/m), rest length 1 m, along x: particle
 /// 0 pinned at the origin, particle 1 of mass `m` (kg) free.
 fn single_spring(k: Real, kd: Real, m: Real, springs: SpringMode) -> ForceModel {
-    let material = MaterialSpec {
+    let material = Material {
         springs,
-        ..MaterialSpec::default()
+        ..Material::default()
     };
-    let forces = ForcesSpec {
+    let forces = Forces {
         springs: true,
         spring_damping: kd > 0.0,
         ..all_off()
@@ -452,13 +452,13 @@ fn tension_only_spring_is_free_in_compression() {
 #[test]
 fn stiffness_models_match_their_formulas() {
     let mesh = union_jack(5, 4, 1.2, 0.9);
-    let seed = MaterialSpec {
+    let seed = Material {
         stiffness: StiffnessModel::Seed,
         cross_section: 2.5e-5,
         alpha: 0.02,
-        ..MaterialSpec::default()
+        ..Material::default()
     };
-    let model = built(&mesh, &seed, &ForcesSpec::default());
+    let model = built(&mesh, &seed, &Forces::default());
     let sp = model.springs();
     assert_eq!(sp.len(), mesh.edge_count());
     for j in 0..sp.len() {
@@ -469,8 +469,8 @@ fn stiffness_models_match_their_formulas() {
         assert!((sp.kd[j] - seed.alpha * k).abs() <= 1e-12 * k);
     }
 
-    let area = MaterialSpec::default();
-    let model = built(&mesh, &area, &ForcesSpec::default());
+    let area = Material::default();
+    let model = built(&mesh, &area, &Forces::default());
     let sp = model.springs();
     for (j, (key, faces)) in mesh.edges().enumerate() {
         assert_eq!((sp.a[j], sp.b[j]), (key.0 .0, key.1 .0));
@@ -486,7 +486,7 @@ fn stiffness_models_match_their_formulas() {
 #[test]
 fn stable_step_follows_its_formula() {
     let mesh = union_jack(5, 5, 1.0, 1.0);
-    let model = built(&mesh, &MaterialSpec::default(), &ForcesSpec::default());
+    let model = built(&mesh, &Material::default(), &Forces::default());
     let m_min = model
         .mass()
         .iter()
@@ -497,18 +497,18 @@ fn stable_step_follows_its_formula() {
     let beta = 0.3;
     let want = beta * std::f64::consts::PI * (m_min / model.max_stiffness()).sqrt();
     assert!((model.stable_step(beta) - want).abs() <= 1e-15 * want);
-    let empty = ForceModel::new(&MaterialSpec::default(), &ForcesSpec::default());
+    let empty = ForceModel::new(&Material::default(), &Forces::default());
     assert_eq!(empty.stable_step(beta), Real::INFINITY);
 }
 
 #[test]
 fn a_force_switched_off_equals_all_minus_that_force() {
     let mesh = union_jack(6, 6, 1.0, 1.0);
-    let material = MaterialSpec::default();
+    let material = Material::default();
     let (x, v) = random_state(&mesh, 42, 0.05);
-    let all = forces_of(&built(&mesh, &material, &ForcesSpec::default()), &x, &v);
+    let all = forces_of(&built(&mesh, &material, &Forces::default()), &x, &v);
     let tol = 1e-12 * scale(&all);
-    type Switch = fn(&mut ForcesSpec) -> &mut bool;
+    type Switch = fn(&mut Forces) -> &mut bool;
     let switches: [(&str, Switch); 6] = [
         ("springs", |s| &mut s.springs),
         ("spring_damping", |s| &mut s.spring_damping),
@@ -519,7 +519,7 @@ fn a_force_switched_off_equals_all_minus_that_force() {
     ];
     let mut sum_of_each = vec![Vec3::zeros(); x.len()];
     for (name, switch) in switches {
-        let mut without = ForcesSpec::default();
+        let mut without = Forces::default();
         *switch(&mut without) = false;
         let mut only = all_off();
         *switch(&mut only) = true;
@@ -542,7 +542,7 @@ fn a_force_switched_off_equals_all_minus_that_force() {
 fn accelerations_are_force_over_mass_and_zero_when_fixed() {
     let mut mesh = union_jack(4, 4, 1.0, 1.0);
     mesh.set_pinned(VertexId(5), true);
-    let model = built(&mesh, &MaterialSpec::default(), &ForcesSpec::default());
+    let model = built(&mesh, &Material::default(), &Forces::default());
     let (x, v) = random_state(&mesh, 8, 0.03);
     let f = forces_of(&model, &x, &v);
     let mut a = vec![Vec3::zeros(); x.len()];
@@ -572,12 +572,12 @@ fn integrators_are_found_by_name() {
 /// A perturbed 4x4 sheet whose springs resist both ways, with only conservative forces.
 fn conservative_sheet() -> (ForceModel, Vec<Vec3>, Vec<Vec3>) {
     let mesh = union_jack(4, 4, 1.0, 1.0);
-    let material = MaterialSpec {
+    let material = Material {
         springs: SpringMode::Both,
         young: 1e5,
-        ..MaterialSpec::default()
+        ..Material::default()
     };
-    let forces = ForcesSpec {
+    let forces = Forces {
         springs: true,
         gravity: true,
         ..all_off()
@@ -616,11 +616,11 @@ fn rk4_conserves_total_energy_to_fourth_order() {
 fn spring_force_is_minus_the_gradient_of_the_stretch_energy() {
     for mode in [SpringMode::Tension, SpringMode::Both] {
         let mesh = union_jack(3, 3, 1.0, 1.0);
-        let material = MaterialSpec {
+        let material = Material {
             springs: mode,
-            ..MaterialSpec::default()
+            ..Material::default()
         };
-        let forces = ForcesSpec {
+        let forces = Forces {
             springs: true,
             ..all_off()
         };
@@ -647,14 +647,14 @@ fn spring_force_is_minus_the_gradient_of_the_stretch_energy() {
 
 #[test]
 fn bending_energy_is_zero_flat_and_grows_with_the_fold() {
-    let forces = ForcesSpec {
+    let forces = Forces {
         bending: true,
         ..all_off()
     };
     let mut last = -1.0;
     for phi in [0.0, 0.1, 0.4, 1.0] {
         let (mesh, x) = diamond(phi);
-        let model = built(&mesh, &MaterialSpec::default(), &forces);
+        let model = built(&mesh, &Material::default(), &forces);
         let e = model.bending_energy(&x);
         assert!(e > last || (phi == 0.0 && e == 0.0), "phi {phi}: {e}");
         last = e;
@@ -665,11 +665,11 @@ fn bending_energy_is_zero_flat_and_grows_with_the_fold() {
 fn implicit_euler_converges_and_reports_its_iterations() {
     let mut mesh = union_jack(6, 6, 1.0, 1.0);
     mesh.set_pinned(VertexId(0), true);
-    let material = MaterialSpec {
+    let material = Material {
         young: 1e9,
-        ..MaterialSpec::default()
+        ..Material::default()
     };
-    let model = built(&mesh, &material, &ForcesSpec::default());
+    let model = built(&mesh, &material, &Forces::default());
     let (mut x, mut v) = random_state(&mesh, 2, 0.01);
     let mut integ = integrator_named("implicit_euler").expect("registered");
     // 100 times the explicit limit.

@@ -3,7 +3,11 @@
 //! validation with errors that name the file, the line and what was expected.
 //!
 //! Loading is the first stage of a run: [`resolve`] (or [`load`]) → [`Scene`] → `sim`.
+//! The scene depends on the core, never the reverse: `convert` turns its sections into the core's
+//! own parameter types (`From<&MaterialSpec> for physics::Material`, ...,
+//! [`ObstacleSpec::to_core`], [`LoadedScene::obstacles`]).
 
+mod convert;
 mod spec;
 mod validate;
 

@@ -309,32 +309,21 @@ fn strategy_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
         return Ok(());
     }
     let d = AdaptivitySpec::default();
-    let keys: [(&str, String, String); 5] = [
-        (
-            "curvature_exponent",
-            a.curvature_exponent.to_string(),
-            d.curvature_exponent.to_string(),
-        ),
-        (
-            "max_depth",
-            a.max_depth.to_string(),
-            d.max_depth.to_string(),
-        ),
-        (
-            "depth_factor",
-            a.depth_factor.to_string(),
-            d.depth_factor.to_string(),
-        ),
-        (
-            "force_completion",
-            a.force_completion.to_string(),
-            d.force_completion.to_string(),
-        ),
-        (
-            "remesh_min_angle",
-            a.remesh_min_angle.to_string(),
-            d.remesh_min_angle.to_string(),
-        ),
+    macro_rules! key {
+        ($field:ident) => {
+            (
+                stringify!($field),
+                a.$field.to_string(),
+                d.$field.to_string(),
+            )
+        };
+    }
+    let keys = [
+        key!(curvature_exponent),
+        key!(max_depth),
+        key!(depth_factor),
+        key!(force_completion),
+        key!(remesh_min_angle),
     ];
     for (key, value, default) in keys {
         if value == default || strategy.options.contains(&key) {

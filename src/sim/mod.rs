@@ -10,7 +10,7 @@ pub use run::{labelled_bar, run, write_mesh_frame, RunOptions, RunStatus, RunSum
 pub use sample::{AdaptJumps, SamplePoints, Sampler, Trajectory};
 pub use setup::{build_cloth, SetupError};
 
-use crate::adapt::{AdaptContext, AdaptReport, Adaptivity};
+use crate::adapt::{AdaptContext, AdaptParams, AdaptReport, Adaptivity};
 use crate::cloth::Cloth;
 use crate::collision::{ContactStats, Obstacles};
 use crate::math::{Real, Vec2, Vec3};
@@ -93,6 +93,7 @@ pub struct Simulation {
     pub obstacles: Obstacles,
     integrator: Box<dyn Integrator>,
     strategy: Box<dyn Adaptivity>,
+    adapt_params: AdaptParams,
     /// Simulated time (s).
     pub t: Real,
     /// Steps taken.
@@ -117,8 +118,8 @@ impl Simulation {
     pub fn new(loaded: &LoadedScene) -> Result<Simulation, SetupError> {
         let scene = loaded.scene.clone();
         let cloth = build_cloth(loaded)?;
-        let obstacles = Obstacles::build(&scene.obstacles, &scene.collision, &loaded.base_dir)?;
-        let integrator = make_integrator(&scene.integrator)?;
+        let obstacles = Obstacles::build(&loaded.obstacles(), &(&scene.collision).into())?;
+        let integrator = make_integrator(&scene.integrator.name, &(&scene.integrator).into())?;
         let drivers = setup::drivers(loaded, &cloth)?;
         let strategy = make_strategy(&scene.adaptivity.strategy)?;
         let locator = RestLocator::new(&cloth.mesh);
@@ -149,6 +150,7 @@ impl Simulation {
             obstacles,
             integrator,
             strategy,
+            adapt_params: (&loaded.scene.adaptivity).into(),
             t: 0.0,
             steps: 0,
             tracked,
@@ -250,7 +252,7 @@ impl Simulation {
             let ctx = AdaptContext {
                 obstacles: &self.obstacles,
                 time: self.t,
-                spec: &self.scene.adaptivity,
+                params: &self.adapt_params,
             };
             self.strategy
                 .adapt(&mut self.cloth, &ctx)
@@ -280,7 +282,7 @@ impl Simulation {
     /// Whether the adapt stage runs this step: always for the first pass, then once at least
     /// `adaptivity.interval` (s, with a relative slack of 1e-9) has passed since the last one.
     fn adapt_due(&self) -> bool {
-        let interval = self.scene.adaptivity.interval;
+        let interval = self.adapt_params.interval;
         self.last_adapt
             .is_none_or(|t0| self.t - t0 >= interval * (1.0 - 1e-9))
     }

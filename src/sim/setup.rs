@@ -72,8 +72,8 @@ pub fn build_cloth(loaded: &LoadedScene) -> Result<Cloth, SetupError> {
         mesh,
         positions,
         Vec3::from(spec.velocity),
-        &s.material,
-        &s.forces,
+        &(&s.material).into(),
+        &(&s.forces).into(),
     ))
 }
 

@@ -16,8 +16,9 @@
 //! the `n + 1` recorded points (start included), which reproduces Table 2's Euler entry to 1 %.
 
 use crate::math::{Real, Vec3};
-use crate::physics::{integrator_named, Dynamics, ForceModel, Springs, INTEGRATORS};
-use crate::scene::{ForcesSpec, MaterialSpec, SpringMode};
+use crate::physics::{
+    integrator_named, Dynamics, ForceModel, Forces, Material, SpringMode, Springs, INTEGRATORS,
+};
 
 /// A particle on the x axis with a prescribed acceleration `a(t)` (no velocity dependence).
 struct Prescribed {
@@ -214,18 +215,18 @@ pub fn run_experiment(exp: &Experiment) -> Vec<ParticleResult> {
 /// The damped spring of the order study: a 1 kg particle on a spring (k = 100 N/m, kd = 1 N s/m,
 /// rest length 1 m) to a pinned anchor, released 0.1 m stretched; no gravity, drag or bending.
 fn damped_spring() -> (ForceModel, Vec<Vec3>, Vec<Vec3>) {
-    let material = MaterialSpec {
+    let material = Material {
         springs: SpringMode::Both,
-        ..MaterialSpec::default()
+        ..Material::default()
     };
-    let forces = ForcesSpec {
+    let forces = Forces {
         springs: true,
         spring_damping: true,
         bending: false,
         bending_damping: false,
         gravity: false,
         drag: false,
-        g: [0.0; 3],
+        g: Vec3::zeros(),
     };
     let springs = Springs {
         a: vec![0],

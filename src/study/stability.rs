@@ -459,8 +459,8 @@ pub fn case_tiny_elements(
     for v in corners {
         mesh.set_pinned(v, true);
     }
-    let s = &loaded.scene;
-    sim.cloth = Cloth::new(mesh, x, Vec3::zeros(), &s.material, &s.forces);
+    let model = &sim.cloth.model;
+    sim.cloth = Cloth::new(mesh, x, Vec3::zeros(), model.material(), model.switches());
     let m = sim.cloth.model.mass();
     let max_m = m.iter().copied().fold(0.0, Real::max);
     let ratio = sim.cloth.model.min_mass() / max_m;

@@ -6,10 +6,8 @@ use super::tests::{
 };
 use super::*;
 use crate::adapt::{AdaptReport, ClothTarget, EditTarget, TransferOptions};
-use crate::cloth::Cloth;
 use crate::math::{Real, Vec3};
 use crate::mesh::{Mesh, VertexId};
-use crate::scene::{ForcesSpec, MaterialSpec};
 use proptest::prelude::*;
 
 /// One random operation: `kind` < 6 bisects face `pick`; otherwise merges a mergeable vertex
@@ -128,7 +126,7 @@ proptest! {
                 Vec3::new(p.x, p.y, 0.05 * next())
             })
             .collect();
-        let mut cloth = Cloth::new(mesh, x, Vec3::zeros(), &MaterialSpec::default(), &ForcesSpec::default());
+        let mut cloth = crate::testing::cloth(mesh, x);
         for v in cloth.mesh.vertices().collect::<Vec<_>>() {
             cloth.v[v.0 as usize] = Vec3::new(0.3 + next(), -0.2 + next(), 1.0 + next());
         }

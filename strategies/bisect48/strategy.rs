@@ -92,7 +92,7 @@ impl Adaptivity for Bisect48 {
     }
 
     fn adapt(&mut self, cloth: &mut Cloth, ctx: &AdaptContext) -> Result<AdaptReport, AdaptError> {
-        let spec = ctx.spec;
+        let spec = ctx.params;
         self.prepare(&cloth.mesh, 2 * spec.max_depth)?;
         let selection = select(
             cloth,

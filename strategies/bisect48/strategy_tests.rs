@@ -1,28 +1,10 @@
 //! Tests of the criteria mapping of the `bisect48` strategy: a fold is refined, a flattened
 //! cloth is merged back only after the hysteresis time, and the strategy is built by name.
 use super::*;
-use crate::adapt::{AdaptContext, Adaptivity};
+use crate::adapt::{AdaptContext, AdaptParams, Adaptivity};
 use crate::cloth::Cloth;
-use crate::collision::Obstacles;
 use crate::math::{Real, Vec3};
-use crate::mesh::union_jack;
-use crate::scene::{AdaptivitySpec, CollisionSpec, ForcesSpec, MaterialSpec};
-use std::path::Path;
-
-fn flat_cloth(n: usize) -> Cloth {
-    let mesh = union_jack(n, n, 1.0, 1.0);
-    let x = mesh
-        .vertices()
-        .map(|v| Vec3::new(mesh.rest(v).x, mesh.rest(v).y, 0.0))
-        .collect();
-    Cloth::new(
-        mesh,
-        x,
-        Vec3::zeros(),
-        &MaterialSpec::default(),
-        &ForcesSpec::default(),
-    )
-}
+use crate::testing::{self, flat_cloth};
 
 /// Folds the cloth by 90 degrees along the rest line u = 0.5 (every slot, live or not).
 fn fold(cloth: &mut Cloth) {
@@ -45,17 +27,14 @@ fn flatten(cloth: &mut Cloth) {
 
 #[test]
 fn fold_is_refined_and_flat_cloth_merges_back_after_t_simplify() {
-    let obstacles = Obstacles::build(&[], &CollisionSpec::default(), Path::new(".")).unwrap();
-    let spec = AdaptivitySpec {
-        strategy: "bisect48".into(),
-        ..AdaptivitySpec::default()
-    };
-    let mut cloth = flat_cloth(5);
+    let obstacles = testing::obstacles(&[]);
+    let spec = AdaptParams::default();
+    let mut cloth = flat_cloth(5, Vec3::zeros());
     let mut s = Bisect48::new();
     let ctx = |time: Real| AdaptContext {
         obstacles: &obstacles,
         time,
-        spec: &spec,
+        params: &spec,
     };
     // A flat cloth at rest: nothing to do.
     let r = s.adapt(&mut cloth, &ctx(0.0)).unwrap();

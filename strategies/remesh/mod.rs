@@ -25,10 +25,10 @@ pub use plan::{plan_region, Plan};
 pub use region::{components, region_faces};
 pub use strategy::Remesh;
 
+use crate::adapt::AdaptParams;
 use crate::adapt::EditTarget;
 use crate::math::Real;
 use crate::mesh::{EdgeKey, EditError, EditRecord, FaceId};
-use crate::scene::AdaptivitySpec;
 
 /// Refine (finer mesh in the hole) or simplify (coarser).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -44,17 +44,17 @@ pub enum Mode {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RemeshParams {
     /// No refinement below this rest length (m); the edge floor is `floor_factor * l_min`.
-    /// Default 0.08 (scene `l_min`).
+    /// Default 0.08 (`l_min`).
     pub l_min: Real,
     /// Simplification never targets or merges cloth-border edges beyond this rest length (m).
-    /// Default 0.25 (scene `l_max`).
+    /// Default 0.25 (`l_max`).
     pub l_max: Real,
-    /// Density-factor scale when refining (4.20-4.22). Default 1.01 (scene `density_refine`).
+    /// Density-factor scale when refining (4.20-4.22). Default 1.01 (`density_refine`).
     pub density_refine: Real,
-    /// Density-factor scale when simplifying. Default 0.35 (scene `density_simplify`).
+    /// Density-factor scale when simplifying. Default 0.35 (`density_simplify`).
     pub density_simplify: Real,
     /// Minimum angle the mesher keeps away from the hole border (degrees). Default 25
-    /// (scene `remesh_min_angle`).
+    /// (`remesh_min_angle`).
     pub angle_limit_deg: Real,
     /// New edges shorter than `floor_factor * l_min` (or than the shortest hole-border edge,
     /// whichever is smaller) make the attempt retry coarser. Default 0.5.
@@ -96,14 +96,14 @@ impl Default for RemeshParams {
 }
 
 impl RemeshParams {
-    /// The parameters named in the scene's `[adaptivity]` section, defaults for the rest.
-    pub fn from_spec(spec: &AdaptivitySpec) -> Self {
+    /// The parameters set by the adaptivity parameters, defaults for the rest.
+    pub fn from_adapt(params: &AdaptParams) -> Self {
         RemeshParams {
-            l_min: spec.l_min,
-            l_max: spec.l_max,
-            density_refine: spec.density_refine,
-            density_simplify: spec.density_simplify,
-            angle_limit_deg: spec.remesh_min_angle,
+            l_min: params.l_min,
+            l_max: params.l_max,
+            density_refine: params.density_refine,
+            density_simplify: params.density_simplify,
+            angle_limit_deg: params.remesh_min_angle,
             ..RemeshParams::default()
         }
     }

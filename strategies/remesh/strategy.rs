@@ -125,7 +125,7 @@ impl Adaptivity for Remesh {
     }
 
     fn adapt(&mut self, cloth: &mut Cloth, ctx: &AdaptContext) -> Result<AdaptReport, AdaptError> {
-        let spec = ctx.spec;
+        let spec = ctx.params;
         self.prune(&cloth.mesh, ctx.time, spec.t_simplify);
         let selection = select(
             cloth,
@@ -137,7 +137,7 @@ impl Adaptivity for Remesh {
                 now: ctx.time,
             },
         );
-        let params = RemeshParams::from_spec(spec);
+        let params = RemeshParams::from_adapt(spec);
         let mut target = ctx.edit_target(cloth);
         let mut fresh = BTreeSet::new();
         let refine: Vec<EdgeKey> = selection.refine.iter().map(|(e, _)| *e).collect();

@@ -6,7 +6,6 @@ use crate::adapt::{Adaptivity, ClothTarget, TransferOptions};
 use crate::cloth::Cloth;
 use crate::math::{Vec2, Vec3};
 use crate::mesh::{union_jack, Mesh, Origin, VertexId, VertexKey};
-use crate::scene::{ForcesSpec, MaterialSpec};
 use proptest::prelude::*;
 use std::collections::BTreeSet;
 
@@ -174,35 +173,26 @@ fn components_join_edges_sharing_a_face_only() {
 /// A flat 5 x 5 cloth of 1 m with edge 6-7 compressed to 50 % (refinement by compression), no
 /// obstacle, and a remesh run of `spec` adapting it at t = 1 s.
 fn adapt_compressed(
-    spec: &crate::scene::AdaptivitySpec,
+    spec: &crate::adapt::AdaptParams,
     velocity: impl Fn(Vec3) -> Vec3,
 ) -> (Remesh, Cloth, crate::adapt::AdaptReport) {
     use crate::adapt::AdaptContext;
-    use crate::collision::Obstacles;
-    use crate::scene::CollisionSpec;
     let mesh = union_jack(5, 5, 1.0, 1.0);
     let mut x: Vec<Vec3> = mesh
         .vertices()
         .map(|v| Vec3::new(mesh.rest(v).x, mesh.rest(v).y, 0.0))
         .collect();
     x[7] = x[6] + (x[7] - x[6]) * 0.5;
-    let mut cloth = Cloth::new(
-        mesh,
-        x,
-        Vec3::zeros(),
-        &MaterialSpec::default(),
-        &ForcesSpec::default(),
-    );
+    let mut cloth = crate::testing::cloth(mesh, x);
     for i in 0..cloth.x.len() {
         cloth.v[i] = velocity(cloth.x[i]);
     }
-    let obstacles =
-        Obstacles::build(&[], &CollisionSpec::default(), std::path::Path::new(".")).unwrap();
+    let obstacles = crate::testing::obstacles(&[]);
     let mut s = Remesh::new();
     let ctx = AdaptContext {
         obstacles: &obstacles,
         time: 1.0,
-        spec,
+        params: spec,
     };
     let report = s.adapt(&mut cloth, &ctx).unwrap();
     cloth.refresh();
@@ -212,10 +202,7 @@ fn adapt_compressed(
 
 #[test]
 fn refined_edges_age_and_are_forgotten_after_t_simplify() {
-    let spec = crate::scene::AdaptivitySpec {
-        strategy: "remesh".into(),
-        ..Default::default()
-    };
+    let spec = crate::adapt::AdaptParams::default();
     let (mut s, cloth, report) = adapt_compressed(&spec, |_| Vec3::zeros());
     assert!(s.counters.refined >= 1, "{:?}", s.counters);
     assert!(report.vertices_added > 0);
@@ -234,10 +221,7 @@ fn refined_edges_age_and_are_forgotten_after_t_simplify() {
 #[test]
 fn restore_energy_keeps_the_kinetic_energy_of_a_remeshed_region() {
     let swirl = |x: Vec3| Vec3::new((7.0 * x.y).sin(), (5.0 * x.x).cos(), x.x * x.y);
-    let mut spec = crate::scene::AdaptivitySpec {
-        strategy: "remesh".into(),
-        ..Default::default()
-    };
+    let mut spec = crate::adapt::AdaptParams::default();
     let (_, cloth, lost) = adapt_compressed(&spec, swirl);
     let energy = cloth.kinetic_energy();
     assert!(lost.events > 0);
@@ -279,13 +263,7 @@ fn random_cloth(cells: usize, seed: u64, pins: usize) -> Cloth {
             )
         })
         .collect();
-    let mut cloth = Cloth::new(
-        mesh,
-        x,
-        Vec3::zeros(),
-        &MaterialSpec::default(),
-        &ForcesSpec::default(),
-    );
+    let mut cloth = crate::testing::cloth(mesh, x);
     for v in cloth.mesh.vertices().collect::<Vec<_>>() {
         if !cloth.mesh.is_pinned(v) {
             cloth.v[v.0 as usize] = Vec3::new(
@@ -501,49 +479,4 @@ fn region_with_two_border_loops_keeps_its_island() {
             assert!(m.is_face(f), "kept face {f:?} removed ({mode:?})");
         }
     }
-}
-
-/// A short sphere run with the strategy: the cloth lands on the sphere, the mesh refines there,
-/// every adaptation keeps the mesh conforming and the mass exact.
-#[test]
-fn sphere_contact_refines_where_the_cloth_meets_the_sphere() {
-    use crate::scene;
-    use crate::sim::Simulation;
-    let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let text = std::fs::read_to_string(base.join("sphere.toml")).unwrap();
-    let overrides = vec![
-        "adaptivity.strategy=remesh".to_string(),
-        "time.duration=0.2".to_string(),
-    ];
-    let loaded = scene::from_text(&text, "sphere.toml", "sphere", base, &overrides).unwrap();
-    let mut sim = Simulation::new(&loaded).unwrap();
-    let mass0 = sim.cloth.model.total_mass();
-    let mut events = 0;
-    while !sim.finished() {
-        let report = sim.step().unwrap();
-        if report.adapt.events > 0 {
-            events += report.adapt.events;
-            sim.cloth.mesh.check().unwrap();
-            let mass = sim.cloth.model.total_mass();
-            assert!((mass - mass0).abs() <= 1e-12 * mass0);
-        }
-    }
-    assert!(events > 0 && sim.cloth.mesh.vertex_count() > 25);
-    // New vertices concentrate where the cloth touches the sphere (radius 0.25 m, centre at the
-    // origin below the pattern's centre): more new vertices per rest area within 0.3 m of the
-    // pattern centre (0.5, 0.5) than outside (the free skirt folds and refines too).
-    let mesh = &sim.cloth.mesh;
-    let near_area = std::f64::consts::PI * 0.3 * 0.3;
-    let (mut near, mut far) = (0.0, 0.0);
-    for v in mesh.vertices().filter(|v| v.0 >= 25) {
-        if (mesh.rest(v) - Vec2::new(0.5, 0.5)).norm() < 0.3 {
-            near += 1.0;
-        } else {
-            far += 1.0;
-        }
-    }
-    assert!(
-        near / near_area > 2.0 * far / (1.0 - near_area),
-        "{near} new vertices near the contact, {far} elsewhere"
-    );
 }

@@ -14,13 +14,13 @@
 
 use super::hierarchy::{EdgeRole, Hierarchy};
 use super::ops::{OpError, OpRecord};
+use crate::adapt::AdaptParams;
 use crate::adapt::RefineReason;
 use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::Real;
 use crate::mesh::{EdgeKey, Mesh, VertexId};
-use crate::scene::AdaptivitySpec;
 use std::collections::BTreeSet;
 
 /// The 1-to-4 edge-based strategy of Simnett et al. 2009. The hierarchy is built from the mesh at
@@ -42,7 +42,7 @@ struct Info<'a> {
     h: &'a Hierarchy,
     mesh: &'a Mesh,
     now: Real,
-    spec: &'a AdaptivitySpec,
+    spec: &'a AdaptParams,
 }
 
 impl EdgeInfo for Info<'_> {
@@ -70,7 +70,7 @@ fn edge_depth(h: &Hierarchy, mesh: &Mesh, e: EdgeKey) -> u32 {
 
 /// The curvature refinement limit (rad) at depth `d`: the cosine limit times `depth_factor^d`
 /// (MODEL.md §8.3, Table 5.5).
-pub fn depth_angle_limit(spec: &AdaptivitySpec, depth: u32) -> Real {
+pub fn depth_angle_limit(spec: &AdaptParams, depth: u32) -> Real {
     (spec.cos_refine * spec.depth_factor.powi(depth as i32))
         .clamp(-1.0, 1.0)
         .acos()
@@ -85,7 +85,7 @@ impl Adaptivity for Simnett {
         let h = self
             .hierarchy
             .get_or_insert_with(|| Hierarchy::new(&cloth.mesh));
-        let spec = ctx.spec;
+        let spec = ctx.params;
         let now = ctx.time;
         let sel = select(
             cloth,

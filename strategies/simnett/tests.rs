@@ -3,16 +3,14 @@
 //! momentum) and the bare mesh in lockstep.
 
 use super::*;
-use crate::adapt::{AdaptContext, Adaptivity};
+use crate::adapt::{AdaptContext, AdaptParams, Adaptivity};
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
+use crate::collision::{Obstacle, ObstacleShape};
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{union_jack, EdgeKey, Mesh, VertexId};
-use crate::scene::{
-    AdaptivitySpec, CollisionSpec, ForcesSpec, MaterialSpec, ObstacleShape, ObstacleSpec,
-};
+use crate::testing;
 use std::collections::BTreeSet;
-use std::path::Path;
 
 mod proptests;
 
@@ -235,52 +233,37 @@ fn split_then_merge_restores_the_mesh_exactly() {
     h.check(&mesh, 3).unwrap();
 }
 
-fn flat_cloth(n: usize) -> Cloth {
-    let mesh = union_jack(n, n, 1.0, 1.0);
-    let x = (0..mesh.vertex_slots())
-        .map(|i| {
-            let p = mesh.rest(VertexId(i as u32));
-            Vec3::new(p.x - 0.5, p.y - 0.5, 0.0)
-        })
-        .collect();
-    Cloth::new(
-        mesh,
-        x,
-        Vec3::zeros(),
-        &MaterialSpec::default(),
-        &ForcesSpec::default(),
-    )
+/// The flat 5 x 5 cloth of 1 m centred on the origin at z = 0.
+fn flat_cloth() -> Cloth {
+    testing::flat_cloth(5, Vec3::new(-0.5, -0.5, 0.0))
 }
 
 fn sphere(radius: Real, z: Real) -> Obstacles {
-    let s = ObstacleSpec {
-        shape: ObstacleShape::Sphere {
+    testing::obstacles(&[Obstacle {
+        restitution: 0.5,
+        ..Obstacle::new(ObstacleShape::Sphere {
             center: [0.0, 0.0, z],
             radius,
-        },
-        friction: 0.0,
-        restitution: 0.5,
-    };
-    Obstacles::build(&[s], &CollisionSpec::default(), Path::new(".")).unwrap()
+        })
+    }])
 }
 
 #[test]
 fn collision_split_projects_the_new_vertex_onto_the_obstacle_surface() {
     // A flat 5x5 cloth at z = 0 cutting a sphere's cap (radius 0.3, centre 0.25 below): edges
     // through the cap are refined for collision and their midpoints land on the sphere (+margin).
-    let mut cloth = flat_cloth(5);
+    let mut cloth = flat_cloth();
     let obstacles = sphere(0.3, -0.25);
-    let spec = AdaptivitySpec {
-        strategy: "simnett".into(),
+    let spec = AdaptParams {
         l_min: 0.05,
-        ..AdaptivitySpec::default()
+        ..AdaptParams::default()
     };
     let mut s = Simnett::default();
     let p0 = cloth.linear_momentum();
     let ctx = AdaptContext {
         obstacles: &obstacles,
         time: 0.0,
-        spec: &spec,
+        params: &spec,
     };
     let report = s.adapt(&mut cloth, &ctx).unwrap();
     assert!(report.events > 0);
@@ -305,7 +288,7 @@ fn collision_split_projects_the_new_vertex_onto_the_obstacle_surface() {
 fn fold_refines_by_curvature_up_to_max_depth_and_flat_cloth_merges_back() {
     // Fold a 5x5 cloth by 90 degrees along u = 0.5; adapt repeatedly (time advancing past the
     // hysteresis each call) until nothing changes; then flatten and adapt until all merged.
-    let mut cloth = flat_cloth(5);
+    let mut cloth = flat_cloth();
     let fold = |cloth: &mut Cloth| {
         for w in cloth.mesh.vertices().collect::<Vec<_>>() {
             let p = cloth.mesh.rest(w);
@@ -318,11 +301,10 @@ fn fold_refines_by_curvature_up_to_max_depth_and_flat_cloth_merges_back() {
     };
     fold(&mut cloth);
     let obstacles = sphere(0.01, -10.0);
-    let spec = AdaptivitySpec {
-        strategy: "simnett".into(),
+    let spec = AdaptParams {
         force_completion: true,
         l_min: 0.01,
-        ..AdaptivitySpec::default()
+        ..AdaptParams::default()
     };
     let mut s = Simnett::default();
     let mut t = 0.0;
@@ -330,7 +312,7 @@ fn fold_refines_by_curvature_up_to_max_depth_and_flat_cloth_merges_back() {
         let ctx = AdaptContext {
             obstacles: &obstacles,
             time: t,
-            spec: &spec,
+            params: &spec,
         };
         let r = s.adapt(&mut cloth, &ctx).unwrap();
         cloth.refresh();
@@ -363,7 +345,7 @@ fn fold_refines_by_curvature_up_to_max_depth_and_flat_cloth_merges_back() {
         let ctx = AdaptContext {
             obstacles: &obstacles,
             time: t,
-            spec: &spec,
+            params: &spec,
         };
         s.adapt(&mut cloth, &ctx).unwrap();
         cloth.refresh();

@@ -211,3 +211,84 @@ fn every_adaptive_strategy_runs_every_source_scene_and_refines_at_contact() {
         }
     }
 }
+
+/// A short sphere run with `remesh`: the cloth lands on the sphere, the mesh refines there,
+/// every adaptation keeps the mesh conforming and the mass exact.
+#[test]
+fn remesh_refines_where_the_cloth_meets_the_sphere() {
+    use adaptcloth::math::Vec2;
+    let loaded = scene(
+        "sphere",
+        &["adaptivity.strategy=remesh", "time.duration=0.2"],
+    );
+    let mut sim = Simulation::new(&loaded).unwrap();
+    let mass0 = sim.cloth.model.total_mass();
+    let mut events = 0;
+    while !sim.finished() {
+        let report = sim.step().unwrap();
+        if report.adapt.events > 0 {
+            events += report.adapt.events;
+            sim.cloth.mesh.check().unwrap();
+            let mass = sim.cloth.model.total_mass();
+            assert!((mass - mass0).abs() <= 1e-12 * mass0);
+        }
+    }
+    assert!(events > 0 && sim.cloth.mesh.vertex_count() > 25);
+    // New vertices concentrate where the cloth touches the sphere (radius 0.25 m, centre at the
+    // origin below the pattern's centre): more new vertices per rest area within 0.3 m of the
+    // pattern centre (0.5, 0.5) than outside (the free skirt folds and refines too).
+    let mesh = &sim.cloth.mesh;
+    let near_area = std::f64::consts::PI * 0.3 * 0.3;
+    let (mut near, mut far) = (0.0, 0.0);
+    for v in mesh.vertices().filter(|v| v.0 >= 25) {
+        if (mesh.rest(v) - Vec2::new(0.5, 0.5)).norm() < 0.3 {
+            near += 1.0;
+        } else {
+            far += 1.0;
+        }
+    }
+    assert!(
+        near / near_area > 2.0 * far / (1.0 - near_area),
+        "{near} new vertices near the contact, {far} elsewhere"
+    );
+}
+
+/// `adaptivity.interval` means the same for every strategy: the adapt stage runs on the first
+/// step and then not before the interval has passed.
+#[test]
+fn adaptation_interval_applies_to_every_strategy() {
+    for strategy in ["remesh", "simnett", "bisect48"] {
+        let set = format!("adaptivity.strategy={strategy}");
+        let loaded = scene(
+            "sphere",
+            &[
+                &set,
+                "time.duration=0.2",
+                "adaptivity.interval=1.0",
+                "cloth.center=[0.0, 0.0, 0.26]",
+            ],
+        );
+        let mut sim = Simulation::new(&loaded).unwrap();
+        sim.step().unwrap();
+        let vertices = sim.cloth.mesh.vertex_count();
+        while !sim.finished() {
+            let report = sim.step().unwrap();
+            assert_eq!(
+                report.adapt.events, 0,
+                "{strategy} adapted at t = {}",
+                sim.t
+            );
+        }
+        assert_eq!(sim.cloth.mesh.vertex_count(), vertices, "{strategy}");
+        let every_step = scene(
+            "sphere",
+            &[&set, "time.duration=0.2", "cloth.center=[0.0, 0.0, 0.26]"],
+        );
+        let mut sim = Simulation::new(&every_step).unwrap();
+        let mut events = 0;
+        while !sim.finished() {
+            events += sim.step().unwrap().adapt.events;
+        }
+        assert!(events > 0, "{strategy} never adapted");
+    }
+}

@@ -30,11 +30,11 @@
 // Index loops over parallel per-slot arrays read clearer than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use super::{fit, Dynamics, Integrator, StepStats};
+use super::{fit, Dynamics, Integrator, Step, StepStats};
 use crate::math::{Mat3, Real, Vec3};
 use crate::physics::forces::bend_modes;
 use crate::physics::ForceModel;
-use crate::scene::SpringMode;
+use crate::physics::SpringMode;
 
 /// Linearised backward Euler solved by block-Jacobi preconditioned conjugate gradients.
 #[derive(Clone, Debug)]
@@ -86,28 +86,11 @@ impl Integrator for ImplicitEuler {
         "implicit_euler"
     }
 
-    fn step(
-        &mut self,
-        dynamics: &dyn Dynamics,
-        t: Real,
-        dt: Real,
-        x: &mut [Vec3],
-        v: &mut [Vec3],
-    ) -> StepStats {
-        debug_assert_eq!(x.len(), v.len());
+    fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats {
+        let Step { t, dt, x, v } = step;
         let n = x.len();
-        for buf in [
-            &mut self.f,
-            &mut self.b,
-            &mut self.dv,
-            &mut self.r,
-            &mut self.z,
-            &mut self.p,
-            &mut self.q,
-        ] {
-            fit(buf, n);
-        }
-        dynamics.constrain_velocities(v);
+        fit(n, [&mut self.f, &mut self.b, &mut self.dv]);
+        fit(n, [&mut self.r, &mut self.z, &mut self.p, &mut self.q]);
         let Some(model) = dynamics.force_model() else {
             dynamics.accelerations(t, x, v, &mut self.f);
             for i in 0..n {

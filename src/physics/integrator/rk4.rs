@@ -4,8 +4,8 @@
 //! velocity doubles as the position slope and five buffers suffice: the stage state, the stage
 //! acceleration and the two weighted slope sums.
 
-use super::{fit, Dynamics, Integrator, StepStats};
-use crate::math::{Real, Vec3};
+use super::{fit, Dynamics, Integrator, Step, StepStats};
+use crate::math::Vec3;
 
 /// Classic RK4: fourth order, four force evaluations per step.
 #[derive(Clone, Debug, Default)]
@@ -22,26 +22,11 @@ impl Integrator for Rk4 {
         "rk4"
     }
 
-    fn step(
-        &mut self,
-        dynamics: &dyn Dynamics,
-        t: Real,
-        dt: Real,
-        x: &mut [Vec3],
-        v: &mut [Vec3],
-    ) -> StepStats {
-        debug_assert_eq!(x.len(), v.len());
+    fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats {
+        let Step { t, dt, x, v } = step;
         let n = x.len();
-        for buf in [
-            &mut self.xs,
-            &mut self.vs,
-            &mut self.a,
-            &mut self.sum_x,
-            &mut self.sum_v,
-        ] {
-            fit(buf, n);
-        }
-        dynamics.constrain_velocities(v);
+        fit(n, [&mut self.xs, &mut self.vs, &mut self.a]);
+        fit(n, [&mut self.sum_x, &mut self.sum_v]);
         // Stage 1 at (t, x, v): its slopes initialise the sums.
         dynamics.accelerations(t, x, v, &mut self.a);
         let h = 0.5 * dt;

@@ -11,8 +11,8 @@
 // Index loops over parallel per-slot arrays read clearer than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use super::{fit, Dynamics, Integrator, StepStats};
-use crate::math::{Real, Vec3};
+use super::{fit, Dynamics, Integrator, Step, StepStats};
+use crate::math::Vec3;
 
 /// Velocity Verlet: second order, two force evaluations per step.
 #[derive(Clone, Debug, Default)]
@@ -27,20 +27,10 @@ impl Integrator for VelocityVerlet {
         "velocity_verlet"
     }
 
-    fn step(
-        &mut self,
-        dynamics: &dyn Dynamics,
-        t: Real,
-        dt: Real,
-        x: &mut [Vec3],
-        v: &mut [Vec3],
-    ) -> StepStats {
-        debug_assert_eq!(x.len(), v.len());
+    fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats {
+        let Step { t, dt, x, v } = step;
         let n = x.len();
-        for buf in [&mut self.a0, &mut self.a1, &mut self.vs] {
-            fit(buf, n);
-        }
-        dynamics.constrain_velocities(v);
+        fit(n, [&mut self.a0, &mut self.a1, &mut self.vs]);
         dynamics.accelerations(t, x, v, &mut self.a0);
         let h2 = 0.5 * dt * dt;
         for i in 0..n {

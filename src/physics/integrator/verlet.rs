@@ -30,9 +30,9 @@
 // Index loops over parallel per-slot arrays read clearer than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
-use super::{fit, Dynamics, Integrator, StepStats};
+use super::{fit, Dynamics, Integrator, Step, StepStats};
 use crate::math::{Real, Vec3};
-use crate::scene::SpringMode;
+use crate::physics::SpringMode;
 
 /// Which member of the Verlet family.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -85,20 +85,10 @@ impl Integrator for Verlet {
         }
     }
 
-    fn step(
-        &mut self,
-        dynamics: &dyn Dynamics,
-        t: Real,
-        dt: Real,
-        x: &mut [Vec3],
-        v: &mut [Vec3],
-    ) -> StepStats {
-        debug_assert_eq!(x.len(), v.len());
+    fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats {
+        let Step { t, dt, x, v } = step;
         let n = x.len();
-        for buf in [&mut self.a, &mut self.vs, &mut self.x_old] {
-            fit(buf, n);
-        }
-        dynamics.constrain_velocities(v);
+        fit(n, [&mut self.a, &mut self.vs, &mut self.x_old]);
         self.x_old.copy_from_slice(x);
         let dt2 = dt * dt;
         match self.dt_prev {

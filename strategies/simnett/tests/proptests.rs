@@ -132,13 +132,7 @@ fn run(
             Vec3::new(p.x + noise(0.05), p.y + noise(0.05), noise(0.3))
         })
         .collect();
-    let mut cloth = Cloth::new(
-        mesh.clone(),
-        x,
-        Vec3::zeros(),
-        &MaterialSpec::default(),
-        &ForcesSpec::default(),
-    );
+    let mut cloth = crate::testing::cloth(mesh.clone(), x);
     for i in 0..cloth.v.len() {
         cloth.v[i] = Vec3::new(0.5 + noise(1.0), -0.3 + noise(1.0), 0.2 + noise(1.0));
     }

@@ -1,0 +1,84 @@
+//! The adaptivity parameters (MODEL.md §6-§8): the shared criteria, the transfer options, the
+//! evaluation interval and the strategy-specific settings. A plain struct with documented
+//! defaults (the scene's defaults); the scene converts its `[adaptivity]` section into it. Field
+//! names are the scene's keys; which strategies read the strategy-specific ones is said by the
+//! strategy registry (`crate::strategies::STRATEGIES`).
+
+use crate::math::Real;
+
+/// Every adaptivity parameter. Shared by every strategy that edits the mesh unless marked
+/// otherwise.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AdaptParams {
+    /// Restore the linear momentum of the touched vertices by a uniform velocity correction.
+    /// Default on.
+    pub restore_momentum: bool,
+    /// Restore the kinetic energy an edit loses by the momentum-neutral correction of MODEL.md
+    /// §8.4 rule 6 ([`super::restore_kinetic_energy`]). Default off.
+    pub restore_energy: bool,
+    /// Compression criterion `c` (dimensionless): refine when `L / L_rest < c`. Default 0.70.
+    pub compression_c: Real,
+    /// Curvature: refine when the cosine between end normals is below this. Default 0.97.
+    pub cos_refine: Real,
+    /// Curvature: simplify when the cosine is above this. Default 0.999995.
+    pub cos_simplify: Real,
+    /// No refinement of an edge shorter than this at rest (m). Default 0.08.
+    pub l_min: Real,
+    /// No simplification above this rest length (m). Default 0.25.
+    pub l_max: Real,
+    /// Smoothing (4.19): refine a neighbour j of a selected edge i when `L_i / L_j < c2`
+    /// (dimensionless). Default 0.75.
+    pub c2: Real,
+    /// Hysteresis: no simplification until this long after refinement (s). Default 0.1.
+    pub t_simplify: Real,
+    /// Collision criterion: an edge meeting an obstacle is not refined when the mean normal of
+    /// its faces and the obstacle normal have an absolute cosine at least this (flat contact).
+    /// Default 0.97.
+    pub flat_contact_cos: Real,
+    /// Simulated time between adaptation passes (s); 0 adapts after every step. Default 0.
+    pub interval: Real,
+    /// Strategy-specific (`remesh`, `bisect48`: the strategies using the area-scaled curvature
+    /// limit): exponent of `theta_refine = theta_max (A_max / A_e)^exponent`. Default 0.5.
+    pub curvature_exponent: Real,
+    /// Strategy-specific (`remesh`): density factor scale when refining (4.20-4.22).
+    /// Default 1.01.
+    pub density_refine: Real,
+    /// Strategy-specific (`remesh`): density factor scale when simplifying. Default 0.35.
+    pub density_simplify: Real,
+    /// Strategy-specific (`remesh`): minimum angle the hole mesher keeps away from the hole
+    /// border (degrees). Default 25.
+    pub remesh_min_angle: Real,
+    /// Strategy-specific (`simnett`, `bisect48`): maximum subdivision depth in 1-to-4 levels
+    /// (`bisect48` allows twice as many bisection levels). Default 3.
+    pub max_depth: u32,
+    /// Strategy-specific (`simnett`): cosine-limit factor per depth level. Default 0.95.
+    pub depth_factor: Real,
+    /// Strategy-specific (`simnett`): complete a blocking parent triangle so a selected edge can
+    /// split, instead of waiting (the source's rule). Default off.
+    pub force_completion: bool,
+}
+
+impl Default for AdaptParams {
+    fn default() -> Self {
+        AdaptParams {
+            restore_momentum: true,
+            restore_energy: false,
+            compression_c: 0.70,
+            cos_refine: 0.97,
+            cos_simplify: 0.999995,
+            l_min: 0.08,
+            l_max: 0.25,
+            c2: 0.75,
+            t_simplify: 0.1,
+            flat_contact_cos: 0.97,
+            interval: 0.0,
+            curvature_exponent: 0.5,
+            density_refine: 1.01,
+            density_simplify: 0.35,
+            remesh_min_angle: 25.0,
+            max_depth: 3,
+            depth_factor: 0.95,
+            force_completion: false,
+        }
+    }
+}
