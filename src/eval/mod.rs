@@ -11,8 +11,10 @@
 //! - `nearest`: the exact nearest-point and nearest-triangle search behind the surface distances.
 //! - [`reference`]: the reference (static strategy, fine grid, small step), its compact cache keyed
 //!   by a stable hash of the physics parameters, and its error floor.
+//! - [`error_map`]: `e(u, v)` over the sample grid at a few times (where the error is).
 //! - [`frame_diff`]: the distance between two frames of the same mesh (`adaptcloth frame-diff`).
 
+pub mod error_map;
 pub mod frame_diff;
 pub mod metrics;
 mod nearest;

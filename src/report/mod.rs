@@ -68,6 +68,7 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
     write_tables(out, c)?;
     let plots = comparison_plots::write_plots(out, c)?;
     let snapshots = pictures::snapshots(out, c);
+    let maps = pictures::error_maps(out, c);
     let m = &c.manifest;
     let mut md = String::new();
     let _ = writeln!(md, "# Comparison: {}\n", m.scene);
@@ -99,6 +100,16 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
             rel(out, svg)
         );
     }
+    let _ = writeln!(
+        md,
+        "## Error maps\n\nWhere each run's error is: `e(u, v)`, the distance between the run's and \
+         the reference's positions of the material point at rest position `(u, v)`, at a few \
+         times, over the pattern with the run's mesh at that time drawn on it (one colour scale \
+         for all runs).\n"
+    );
+    for (label, outcome) in &maps {
+        let _ = writeln!(md, "{}", outcome_line(label, outcome, out));
+    }
     let _ = writeln!(md, "## Snapshots and replay\n");
     let _ = writeln!(md, "{}", outcome_line("snapshots", &snapshots, out));
     let sections = vec![
@@ -117,6 +128,19 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
             title: "Time series".into(),
             markdown: String::new(),
             images: plots.iter().skip(2).map(|p| p.1.clone()).collect(),
+        },
+        Section {
+            title: "Error maps".into(),
+            markdown:
+                "e(u, v) over the pattern with each run's mesh, one colour scale for all runs."
+                    .into(),
+            images: maps
+                .iter()
+                .filter_map(|(_, o)| match o {
+                    RenderOutcome::Written(p) => Some(p.clone()),
+                    RenderOutcome::Failed(_) => None,
+                })
+                .collect(),
         },
         Section {
             title: "Snapshots".into(),

@@ -93,6 +93,64 @@ pub fn snapshots(out: &Path, c: &Comparison) -> RenderOutcome {
     }
 }
 
+/// Writes `runs/<label>/error_map.png` for every run that wrote `error_map.csv`: its error over
+/// the rest-space pattern at each map time, with its mesh at that time (the frame nearest in
+/// time) drawn over it, on one colour scale shared by all runs of the comparison. Returns each
+/// run's label and outcome.
+pub fn error_maps(out: &Path, c: &Comparison) -> Vec<(String, RenderOutcome)> {
+    use crate::eval::error_map::read_error_maps;
+    let maps: Vec<(String, PathBuf, Vec<_>)> = c
+        .rows
+        .iter()
+        .filter_map(|r| {
+            let dir = out.join("runs").join(&r.label);
+            let maps = read_error_maps(&dir.join("error_map.csv")).ok()?;
+            (!maps.is_empty()).then(|| (r.label.clone(), dir, maps))
+        })
+        .collect();
+    let e_max = maps
+        .iter()
+        .flat_map(|(_, _, m)| m.iter().flat_map(|m| m.samples.iter().map(|s| s.1)))
+        .filter(|e| e.is_finite())
+        .fold(0.0, f64::max);
+    maps.iter()
+        .map(|(label, dir, maps)| (label.clone(), error_map(dir, label, maps, e_max)))
+        .collect()
+}
+
+/// One run's error-map picture (see [`error_maps`]).
+fn error_map(
+    dir: &Path,
+    label: &str,
+    maps: &[crate::eval::error_map::ErrorMap],
+    e_max: f64,
+) -> RenderOutcome {
+    use super::render::error_map::{error_map_png, MapPanel};
+    let frames = frame_times(dir);
+    let mut panels = Vec::new();
+    for map in maps {
+        let Some((_, frame)) = pick_frames(&frames, &[map.t]).pop() else {
+            return RenderOutcome::Failed(format!("{}: no frames", dir.display()));
+        };
+        let obj = match crate::io::read_obj(&frame) {
+            Ok(o) => o,
+            Err(e) => return RenderOutcome::Failed(e.to_string()),
+        };
+        let rest = |c: crate::io::obj::ObjCorner| c.vt.map(|t| obj.texcoords[t]);
+        let triangles = obj
+            .triangle_corners()
+            .filter_map(|(_, c)| Some([rest(c[0])?, rest(c[1])?, rest(c[2])?]))
+            .collect();
+        panels.push(MapPanel { map, triangles });
+    }
+    let path = dir.join("error_map.png");
+    let title = format!("{label}: e(u, v) over the pattern, with the mesh");
+    match error_map_png(&path, &title, &panels, e_max) {
+        Ok(()) => RenderOutcome::Written(path),
+        Err(e) => RenderOutcome::Failed(e.to_string()),
+    }
+}
+
 /// Writes `out/report.html` with the sections and a 3D replay of every run.
 pub fn html(out: &Path, c: &Comparison, title: &str, sections: &[Section]) -> RenderOutcome {
     use super::html::{write_report_html, ReplayRun};

@@ -1,13 +1,15 @@
 //! Running a comparison: the reference (cached), then every configuration of the shard on the
 //! pool, each measured against the reference. Output folder: `comparison.csv`,
 //! `comparison.json` ([`super::table`]), `runs/<label>/` (each run's frames, metrics.csv,
-//! summary.json, and `error.csv` with `e(t)`); the plots and reports come from `crate::report`.
+//! summary.json, `error.csv` with `e(t)` and `error_map.csv` with `e(u, v)`); the plots and
+//! reports come from `crate::report`.
 
 use super::config::RunConfig;
 use super::pool::{self, Progress};
 use super::shard::Shard;
 use super::table::{Comparison, Manifest, ReferenceInfo, Row};
 use super::{io_err, StudyError};
+use crate::eval::error_map::{error_maps, write_error_maps};
 use crate::eval::metrics;
 use crate::eval::reference::{self, Reference, ReferenceError, ReferenceSettings};
 use crate::scene::LoadedScene;
@@ -217,6 +219,14 @@ fn run_config(
             }
             let path = dir.join("error.csv");
             crate::io::write_atomic(&path, s.as_bytes()).map_err(io_err(&path))?;
+            let maps = error_maps(
+                t,
+                &reference.trajectory,
+                samples,
+                loaded.scene.time.duration,
+            );
+            let path = dir.join("error_map.csv");
+            write_error_maps(&path, &maps).map_err(io_err(&path))?;
         }
     }
     Ok(row)

@@ -6,13 +6,14 @@
 //! run and one column per time ([`snapshot_grid`]). The reports and `adaptcloth render` use it; the
 //! simulation never does.
 //!
-//! Files: `obstacles.rs` (obstacle tessellation), `camera.rs` (framing
+//! Files: `error_map.rs` (the error map of a run over its rest-space mesh), `obstacles.rs` (obstacle tessellation), `camera.rs` (framing
 //! and projection), `raster.rs` (z-buffered triangle fill with barycentric edge lines), `text.rs`
 //! (labels with the DejaVu font), `picture.rs` (the public pictures and PNG encoding).
 //!
 //! Everything is deterministic: same meshes, same bytes.
 
 mod camera;
+pub mod error_map;
 mod obstacles;
 mod picture;
 mod raster;
