@@ -268,7 +268,8 @@ pub struct RenderArgs {
     /// The PNG to write.
     #[arg(long)]
     pub out: PathBuf,
-    /// Scene file or embedded scene name whose obstacles are drawn too.
+    /// Scene file or embedded scene name whose obstacles are drawn too. Default: the
+    /// `scene.resolved.toml` the run wrote beside the frame's `frames/` folder, if any.
     #[arg(long)]
     pub scene: Option<String>,
     /// Picture size in pixels.

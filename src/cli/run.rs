@@ -27,6 +27,8 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
         progress: show_progress(args.quiet),
         interrupt: Some(interrupt_flag()),
         source: loaded.source.clone(),
+        resolved_scene: Some(scene::resolved_toml(&loaded, &sim::this_command())),
+        command: sim::this_command(),
         ..RunOptions::default()
     };
     eprintln!(
@@ -70,7 +72,15 @@ pub fn scenes() -> Result<(), CliError> {
 pub fn render(args: RenderArgs) -> Result<(), CliError> {
     let input = |e: &dyn std::fmt::Display| CliError::Input(e.to_string());
     let mesh = FrameMesh::read(&args.frame).map_err(|e| input(&e))?;
-    let obstacles = match &args.scene {
+    // Without --scene, the scene the run recorded beside its frames folder.
+    let recorded = args
+        .frame
+        .parent()
+        .and_then(Path::parent)
+        .map(|run| run.join("scene.resolved.toml"))
+        .filter(|p| p.is_file())
+        .map(|p| p.display().to_string());
+    let obstacles = match args.scene.as_ref().or(recorded.as_ref()) {
         Some(s) => {
             let loaded = scene::resolve(Some(s), &Overrides::default())?;
             obstacle_meshes(&loaded.scene.obstacles, &loaded.base_dir).map_err(|e| input(&e))?

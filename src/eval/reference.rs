@@ -297,6 +297,8 @@ pub fn run_sampled(
         source: loaded.source.clone(),
         samples: Some(samples),
         bar,
+        resolved_scene: Some(crate::scene::resolved_toml(loaded, &sim::this_command())),
+        command: sim::this_command(),
     };
     sim::run(&mut simulation, &opts).map_err(io_err(out))
 }

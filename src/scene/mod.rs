@@ -283,6 +283,34 @@ pub fn with_overrides(loaded: &LoadedScene, set: &[String]) -> Result<LoadedScen
     })
 }
 
+/// The scene after every override as TOML that loads back to the same scene from any folder
+/// (relative mesh paths made absolute), headed by comments naming the binary's version, the
+/// command that ran it and where the scene came from. Runs write it as `scene.resolved.toml`.
+pub fn resolved_toml(loaded: &LoadedScene, command: &str) -> String {
+    let mut scene = loaded.scene.clone();
+    let absolute = |f: &str| {
+        let p = loaded.base_dir.join(f);
+        std::path::absolute(&p).unwrap_or(p).display().to_string()
+    };
+    if !scene.cloth.mesh.is_empty() {
+        scene.cloth.mesh = absolute(&scene.cloth.mesh);
+    }
+    for o in &mut scene.obstacles {
+        if let ObstacleShape::Mesh { file, .. } = &mut o.shape {
+            *file = absolute(file);
+        }
+    }
+    let body = toml::to_string(&scene).unwrap_or_else(|e| format!("# not serializable: {e}\n"));
+    format!(
+        "# The scene this run ran, after every override (adaptcloth {}).\n\
+         # Command: {command}\n\
+         # Scene from: {}\n\
+         # Run it alone again: adaptcloth run <this file>\n\n{body}",
+        env!("CARGO_PKG_VERSION"),
+        loaded.source
+    )
+}
+
 use serde::Deserialize;
 
 /// Applies one `section.key=value` override to the serialized scene (which holds every key with

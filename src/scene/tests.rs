@@ -215,3 +215,34 @@ fn every_source_scene_loads_with_every_strategy() {
         }
     }
 }
+
+#[test]
+fn the_resolved_scene_loads_back_to_the_same_scene_from_another_folder() {
+    let overrides = [
+        "cloth.resolution=9".to_string(),
+        "time.duration=0.2".to_string(),
+    ];
+    for name in ["bunny", "sphere"] {
+        let loaded = load_embedded(name, &overrides).unwrap().unwrap();
+        let text = resolved_toml(&loaded, "adaptcloth run bunny --set cloth.resolution=9");
+        assert!(text.starts_with("# The scene this run ran"), "{text}");
+        assert!(text.contains("# Command: adaptcloth run bunny"), "{text}");
+        assert!(text.contains(env!("CARGO_PKG_VERSION")));
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("scene.resolved.toml");
+        std::fs::write(&path, &text).unwrap();
+        let back = load(&path, &[]).unwrap();
+        // Mesh files are absolute, so only their spelling may differ.
+        let mut want = loaded.scene.clone();
+        for (o, b) in want.obstacles.iter_mut().zip(&back.scene.obstacles) {
+            if let (ObstacleShape::Mesh { file, .. }, ObstacleShape::Mesh { file: f2, .. }) =
+                (&mut o.shape, &b.shape)
+            {
+                assert!(std::path::Path::new(f2).is_absolute(), "{f2}");
+                assert!(f2.ends_with(file.as_str()), "{f2} vs {file}");
+                file.clone_from(f2);
+            }
+        }
+        assert_eq!(back.scene, want, "{name}");
+    }
+}

@@ -6,7 +6,9 @@ mod run;
 mod sample;
 mod setup;
 
-pub use run::{labelled_bar, run, write_mesh_frame, RunOptions, RunStatus, RunSummary};
+pub use run::{
+    labelled_bar, run, this_command, write_mesh_frame, RunOptions, RunStatus, RunSummary,
+};
 pub use sample::{AdaptJumps, SamplePoints, Sampler, Trajectory};
 pub use setup::{build_cloth, SetupError};
 

@@ -31,6 +31,16 @@ pub struct RunOptions {
     pub samples: Option<Arc<SamplePoints>>,
     /// A progress bar to drive instead of creating one (e.g. one line of a multi-run display).
     pub bar: Option<ProgressBar>,
+    /// The scene after every override (`crate::scene::resolved_toml`), written as
+    /// `scene.resolved.toml` when the run starts; `None` writes none.
+    pub resolved_scene: Option<String>,
+    /// The command line that started the run (recorded in `summary.json`).
+    pub command: String,
+}
+
+/// The command line of this process (`adaptcloth run ...`), for the records a run keeps.
+pub fn this_command() -> String {
+    std::env::args().collect::<Vec<_>>().join(" ")
 }
 
 /// How a run ended.
@@ -54,6 +64,10 @@ pub struct RunSummary {
     pub scene: String,
     /// Scene file or `<embedded NAME>`.
     pub source: String,
+    /// The command line that started the run.
+    pub command: String,
+    /// The version of adaptcloth that ran it.
+    pub version: String,
     /// Strategy.
     pub strategy: String,
     /// Integrator.
@@ -100,6 +114,9 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         }
     }
     let _ = std::fs::remove_file(opts.out_dir.join("summary.json"));
+    if let Some(text) = &opts.resolved_scene {
+        write_atomic(&opts.out_dir.join("scene.resolved.toml"), text.as_bytes())?;
+    }
     let mut metrics = MetricsWriter::create(&opts.out_dir, sim.tracked.len())?;
     let bar = match &opts.bar {
         Some(bar) => {
@@ -202,6 +219,8 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
     let summary = RunSummary {
         scene: sim.scene.name.clone(),
         source: opts.source.clone(),
+        command: opts.command.clone(),
+        version: env!("CARGO_PKG_VERSION").to_string(),
         strategy: sim.strategy_name().to_string(),
         integrator: sim.integrator_name().to_string(),
         steps: sim.steps,

@@ -62,4 +62,51 @@ fn run_writes_outputs_and_exits_0() {
     assert!(out.join("summary.json").is_file());
     assert!(out.join("metrics.csv").is_file());
     assert!(out.join("frames/frame_00001.obj").is_file());
+    // The run records what it ran: the resolved scene (loadable on its own), the command and
+    // the version.
+    let resolved = out.join("scene.resolved.toml");
+    let text = std::fs::read_to_string(&resolved).unwrap();
+    assert!(
+        text.contains("# Command: ") && text.contains("--duration 0.02"),
+        "{text}"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(
+        summary.contains("\"version\": \"") && summary.contains("--duration 0.02"),
+        "{summary}"
+    );
+    let again = dir.path().join("again");
+    let (code, err) = adaptcloth(&[
+        "run",
+        resolved.to_str().unwrap(),
+        "--out",
+        again.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read(out.join("frames/frame_00001.obj")).unwrap(),
+        std::fs::read(again.join("frames/frame_00001.obj")).unwrap(),
+        "re-running the resolved scene gives the same frames"
+    );
+    // `render` finds the scene (and so the sphere) from the run's folder.
+    let with = dir.path().join("with.png");
+    let without = dir.path().join("without.png");
+    let frame = out.join("frames/frame_00001.obj");
+    let frame = frame.to_str().unwrap();
+    let (code, err) = adaptcloth(&["render", frame, "--out", without.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    let (code, err) = adaptcloth(&[
+        "render",
+        frame,
+        "--out",
+        with.to_str().unwrap(),
+        "--scene",
+        "sphere",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(
+        std::fs::read(with).unwrap(),
+        std::fs::read(without).unwrap()
+    );
 }
