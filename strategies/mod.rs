@@ -26,8 +26,8 @@ pub struct StrategyInfo {
     /// Whether the strategy ever changes the mesh. `false` (the static baseline) means no
     /// adaptivity parameter has any effect on it.
     pub edits_mesh: bool,
-    /// The strategy-specific adaptivity parameters it reads, by name (the scene's
-    /// `[adaptivity]` keys). The shared
+    /// The strategy-specific adaptivity parameters it reads, by name: fields of
+    /// [`crate::adapt::AdaptParams`], which are also the scene's `[adaptivity]` keys. The shared
     /// criteria, the evaluation interval and the transfer options apply to every strategy that
     /// edits the mesh and are not listed.
     pub options: &'static [&'static str],

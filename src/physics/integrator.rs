@@ -175,11 +175,13 @@ pub fn integrator_named(name: &str) -> Result<Box<dyn Integrator>, UnknownIntegr
     make_integrator(name, &IntegratorParams::default())
 }
 
-/// Resizes scratch buffers to `n` slots; allocates only when `n` grows past a capacity.
-pub(crate) fn fit<const N: usize>(n: usize, bufs: [&mut Vec<Vec3>; N]) {
+/// Resizes scratch buffers to `n` slots and returns `n`; allocates only when `n` grows past a
+/// capacity.
+pub(crate) fn fit<const N: usize>(n: usize, bufs: [&mut Vec<Vec3>; N]) -> usize {
     for buf in bufs {
         if buf.len() != n {
             buf.resize(n, Vec3::zeros());
         }
     }
+    n
 }

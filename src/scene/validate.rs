@@ -5,6 +5,15 @@ use super::{AdaptivitySpec, ClothShape, ObstacleShape, Scene, SceneError};
 use crate::math::Real;
 use std::path::Path;
 
+/// The range a scalar must lie in.
+#[derive(Clone, Copy)]
+enum Range {
+    /// Finite and > 0.
+    Positive,
+    /// Finite and >= 0.
+    NonNegative,
+}
+
 /// Collects the first out-of-range value of a scene.
 struct Checker<'a> {
     text: &'a str,
@@ -40,6 +49,17 @@ impl Checker<'_> {
         } else {
             Err(self.fail(key, v, "expected a finite value >= 0"))
         }
+    }
+
+    /// Checks each `(key, value, range)` in order; the first value out of its range fails.
+    fn ranges(&self, checks: &[(&str, Real, Range)]) -> Result<(), SceneError> {
+        for &(key, v, range) in checks {
+            match range {
+                Range::Positive => self.positive(key, v)?,
+                Range::NonNegative => self.non_negative(key, v)?,
+            }
+        }
+        Ok(())
     }
 
     fn open_unit(&self, key: &str, v: Real) -> Result<(), SceneError> {
@@ -130,31 +150,32 @@ pub(super) fn validate(
         }
     }
 
-    let m = &scene.material;
-    c.positive("material.rho", m.rho)?;
-    c.positive("material.T", m.thickness)?;
-    c.non_negative("material.kappa", m.kappa)?;
-    c.positive("material.E", m.young)?;
-    c.non_negative("material.alpha", m.alpha)?;
-    c.non_negative("material.k_b", m.k_b)?;
-    c.non_negative("material.k_bd", m.k_bd)?;
-    c.non_negative("material.mu", m.mu)?;
-    c.positive("material.A0", m.cross_section)?;
     c.finite3("forces.g", scene.forces.g)?;
-
-    let t = &scene.time;
-    c.positive("time.duration", t.duration)?;
-    c.positive("time.dt", t.dt)?;
-    c.positive("time.beta", t.beta)?;
-    c.non_negative("time.dt_initial", t.dt_initial)?;
-    c.non_negative("time.dt_min", t.dt_min)?;
-    c.non_negative("time.dt_max", t.dt_max)?;
+    let (m, t) = (&scene.material, &scene.time);
+    use Range::{NonNegative, Positive};
+    c.ranges(&[
+        ("material.rho", m.rho, Positive),
+        ("material.T", m.thickness, Positive),
+        ("material.kappa", m.kappa, NonNegative),
+        ("material.E", m.young, Positive),
+        ("material.alpha", m.alpha, NonNegative),
+        ("material.k_b", m.k_b, NonNegative),
+        ("material.k_bd", m.k_bd, NonNegative),
+        ("material.mu", m.mu, NonNegative),
+        ("material.A0", m.cross_section, Positive),
+        ("time.duration", t.duration, Positive),
+        ("time.dt", t.dt, Positive),
+        ("time.beta", t.beta, Positive),
+        ("time.dt_initial", t.dt_initial, NonNegative),
+        ("time.dt_min", t.dt_min, NonNegative),
+        ("time.dt_max", t.dt_max, NonNegative),
+        ("time.frame_rate", t.frame_rate, Positive),
+        ("time.metrics_rate", t.metrics_rate, Positive),
+        ("time.max_speed", t.max_speed, Positive),
+    ])?;
     if t.dt_max > 0.0 && t.dt_min > t.dt_max {
         return Err(c.fail("time.dt_min", t.dt_min, "expected dt_min <= dt_max"));
     }
-    c.positive("time.frame_rate", t.frame_rate)?;
-    c.positive("time.metrics_rate", t.metrics_rate)?;
-    c.positive("time.max_speed", t.max_speed)?;
 
     c.one_of(
         "integrator.name",

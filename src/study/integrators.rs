@@ -78,33 +78,33 @@ pub fn particle_methods() -> Vec<&'static str> {
         .collect()
 }
 
-/// Seed 004's four tables.
-pub fn seed_experiments() -> [Experiment; 4] {
+/// Seed 004's experiment 1 (Tables 2 and 3): constant acceleration `-9.81 m/s²` from
+/// `v0 = 61.29 m/s`, 25 steps of 0.25 s, constant or `random`; `source` as in [`Experiment`].
+fn free_fall(random: bool, source: [Real; 4]) -> Experiment {
     const G: Real = -9.81;
     const V0: Real = 61.29;
+    Experiment {
+        name: if random {
+            "1: constant acceleration, random steps"
+        } else {
+            "1: constant acceleration, constant steps"
+        },
+        table: if random { "Tabela 3" } else { "Tabela 2" },
+        accel: |_| G,
+        exact: |t| V0 * t + 0.5 * G * t * t,
+        v0: V0,
+        dt: 0.25,
+        steps: 25,
+        random,
+        source,
+    }
+}
+
+/// Seed 004's four tables.
+pub fn seed_experiments() -> [Experiment; 4] {
     [
-        Experiment {
-            name: "1: constant acceleration, constant steps",
-            table: "Tabela 2",
-            accel: |_| G,
-            exact: |t| V0 * t + 0.5 * G * t * t,
-            v0: V0,
-            dt: 0.25,
-            steps: 25,
-            random: false,
-            source: [0.0, 0.0, 2.32, 0.0],
-        },
-        Experiment {
-            name: "1: constant acceleration, random steps",
-            table: "Tabela 3",
-            accel: |_| G,
-            exact: |t| V0 * t + 0.5 * G * t * t,
-            v0: V0,
-            dt: 0.25,
-            steps: 25,
-            random: true,
-            source: [53.74, 0.58, 2.51, 0.0],
-        },
+        free_fall(false, [0.0, 0.0, 2.32, 0.0]),
+        free_fall(true, [53.74, 0.58, 2.51, 0.0]),
         Experiment {
             name: "2: x = 2t³ - 7t² + 5t, random steps",
             table: "Tabela 4",

@@ -276,15 +276,9 @@ impl Hierarchy {
                 if !t.faces.is_empty() {
                     return Err(format!("state-7 triangle {key:?} owns faces"));
                 }
-                for c in children {
-                    let child = self
-                        .tris
-                        .get(&c)
-                        .ok_or_else(|| format!("child {c:?} of {key:?} missing"))?;
-                    if child.parent != Some(key) || child.depth != t.depth + 1 {
-                        return Err(format!("child {c:?} of {key:?} has wrong parent or depth"));
-                    }
-                }
+                check_children(children, key, t.depth, "", |c| {
+                    self.tris.get(c).map(|n| (n.parent, n.depth))
+                })?;
                 continue;
             }
             if t.children.is_some() {
@@ -340,15 +334,9 @@ impl Hierarchy {
                 }
             }
             if let Some(children) = node.children(e) {
-                for c in children {
-                    let child = self
-                        .edges
-                        .get(&c)
-                        .ok_or_else(|| format!("child {c:?} of split edge {e:?} missing"))?;
-                    if child.parent != Some(e) || child.depth != node.depth + 1 {
-                        return Err(format!("child {c:?} of {e:?} has wrong parent or depth"));
-                    }
-                }
+                check_children(children, e, node.depth, "split edge ", |c| {
+                    self.edges.get(c).map(|n| (n.parent, n.depth))
+                })?;
             }
             // A child edge lies in the corner children of its parent's state-7 triangles (on the
             // other sides: temporary children); any other edge has a triangle.
@@ -445,4 +433,24 @@ impl Hierarchy {
 pub fn canonical(f: [VertexId; 3]) -> [VertexId; 3] {
     let k = (0..3).min_by_key(|&k| f[k]).unwrap_or(0);
     [f[k], f[(k + 1) % 3], f[(k + 2) % 3]]
+}
+
+/// Checks that every child exists (`get` gives its parent and depth), names `parent` as its
+/// parent and lies one level below `depth`; `what` prefixes the parent in the message.
+fn check_children<K: Copy + PartialEq + std::fmt::Debug>(
+    children: impl IntoIterator<Item = K>,
+    parent: K,
+    depth: u32,
+    what: &str,
+    get: impl Fn(&K) -> Option<(Option<K>, u32)>,
+) -> Result<(), String> {
+    for c in children {
+        let (p, d) = get(&c).ok_or_else(|| format!("child {c:?} of {what}{parent:?} missing"))?;
+        if p != Some(parent) || d != depth + 1 {
+            return Err(format!(
+                "child {c:?} of {parent:?} has wrong parent or depth"
+            ));
+        }
+    }
+    Ok(())
 }

@@ -321,31 +321,29 @@ impl Hierarchy {
         max_depth: u32,
         now: Real,
     ) -> Result<Vec<OpRecord>, OpError> {
-        let mut out = Vec::new();
-        self.force_into(target, e, max_depth, now, &mut out)?;
-        Ok(out)
+        let mut forcing = Forcing {
+            target,
+            max_depth,
+            now,
+            out: Vec::new(),
+        };
+        self.force_into(e, &mut forcing)?;
+        Ok(forcing.out)
     }
 
-    fn force_into(
-        &mut self,
-        target: &mut dyn EditTarget,
-        e: EdgeKey,
-        max_depth: u32,
-        now: Real,
-        out: &mut Vec<OpRecord>,
-    ) -> Result<(), OpError> {
+    fn force_into(&mut self, e: EdgeKey, f: &mut Forcing) -> Result<(), OpError> {
         // At most two blocking neighbours, then the split itself.
         for _ in 0..3 {
-            match self.split_edge(target, e, max_depth, now) {
+            match self.split_edge(f.target, e, f.max_depth, f.now) {
                 Ok(r) => {
-                    out.push(r);
+                    f.out.push(r);
                     return Ok(());
                 }
                 Err(OpError::NextToTemporary { triangle, .. }) => {
-                    self.complete_into(target, triangle, max_depth, now, out)?;
+                    self.complete_into(triangle, f)?;
                 }
                 Err(OpError::Temporary { triangle, .. }) => {
-                    return self.complete_into(target, triangle, max_depth, now, out);
+                    return self.complete_into(triangle, f);
                 }
                 Err(other) => return Err(other),
             }
@@ -356,18 +354,11 @@ impl Hierarchy {
     }
 
     /// Splits every unsplit edge of triangle `t` (forced), bringing it to state 7.
-    fn complete_into(
-        &mut self,
-        target: &mut dyn EditTarget,
-        t: TriKey,
-        max_depth: u32,
-        now: Real,
-        out: &mut Vec<OpRecord>,
-    ) -> Result<(), OpError> {
+    fn complete_into(&mut self, t: TriKey, f: &mut Forcing) -> Result<(), OpError> {
         for k in 0..3 {
-            let f = self.tris[&t].edge(k);
-            if self.edges[&f].mid.is_none() {
-                self.force_into(target, f, max_depth, now, out)?;
+            let e = self.tris[&t].edge(k);
+            if self.edges[&e].mid.is_none() {
+                self.force_into(e, f)?;
             }
         }
         Ok(())
@@ -468,4 +459,13 @@ fn new_edge(depth: u32, parent: Option<EdgeKey>, now: Real) -> EdgeNode {
 
 fn to_refs(f: [Option<VertexId>; 3]) -> [VertexRef; 3] {
     f.map(|v| v.map_or(VertexRef::New(0), VertexRef::Old))
+}
+
+/// What a forced split carries through its recursion: where edits go, the depth limit, the time
+/// (s) and the operations applied so far.
+struct Forcing<'a> {
+    target: &'a mut dyn EditTarget,
+    max_depth: u32,
+    now: Real,
+    out: Vec<OpRecord>,
 }

@@ -151,7 +151,9 @@ fn merge_candidates(
         let Some(p) = h.edge(*c).and_then(|n| n.parent) else {
             continue;
         };
-        let node = h.edge(p).expect("parent of a live edge");
+        let Some(node) = h.edge(p) else {
+            continue;
+        };
         let Some(children) = node.children(p) else {
             continue;
         };

@@ -40,8 +40,7 @@ impl Integrator for Euler {
         }
     }
 
-    fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats {
-        let Step { t, dt, x, v } = step;
+    fn advance(&mut self, dynamics: &dyn Dynamics, Step { t, dt, x, v }: Step) -> StepStats {
         fit(x.len(), [&mut self.a]);
         dynamics.accelerations(t, x, v, &mut self.a);
         let pairs = x.iter_mut().zip(v.iter_mut()).zip(&self.a);

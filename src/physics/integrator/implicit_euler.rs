@@ -86,10 +86,8 @@ impl Integrator for ImplicitEuler {
         "implicit_euler"
     }
 
-    fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats {
-        let Step { t, dt, x, v } = step;
-        let n = x.len();
-        fit(n, [&mut self.f, &mut self.b, &mut self.dv]);
+    fn advance(&mut self, dynamics: &dyn Dynamics, Step { t, dt, x, v }: Step) -> StepStats {
+        let n = fit(x.len(), [&mut self.f, &mut self.b, &mut self.dv]);
         fit(n, [&mut self.r, &mut self.z, &mut self.p, &mut self.q]);
         let Some(model) = dynamics.force_model() else {
             dynamics.accelerations(t, x, v, &mut self.f);

@@ -22,10 +22,8 @@ impl Integrator for Rk4 {
         "rk4"
     }
 
-    fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats {
-        let Step { t, dt, x, v } = step;
-        let n = x.len();
-        fit(n, [&mut self.xs, &mut self.vs, &mut self.a]);
+    fn advance(&mut self, dynamics: &dyn Dynamics, Step { t, dt, x, v }: Step) -> StepStats {
+        let n = fit(x.len(), [&mut self.xs, &mut self.vs, &mut self.a]);
         fit(n, [&mut self.sum_x, &mut self.sum_v]);
         // Stage 1 at (t, x, v): its slopes initialise the sums.
         dynamics.accelerations(t, x, v, &mut self.a);

@@ -27,10 +27,8 @@ impl Integrator for VelocityVerlet {
         "velocity_verlet"
     }
 
-    fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats {
-        let Step { t, dt, x, v } = step;
-        let n = x.len();
-        fit(n, [&mut self.a0, &mut self.a1, &mut self.vs]);
+    fn advance(&mut self, dynamics: &dyn Dynamics, Step { t, dt, x, v }: Step) -> StepStats {
+        let n = fit(x.len(), [&mut self.a0, &mut self.a1, &mut self.vs]);
         dynamics.accelerations(t, x, v, &mut self.a0);
         let h2 = 0.5 * dt * dt;
         for i in 0..n {

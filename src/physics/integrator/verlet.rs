@@ -85,10 +85,8 @@ impl Integrator for Verlet {
         }
     }
 
-    fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats {
-        let Step { t, dt, x, v } = step;
-        let n = x.len();
-        fit(n, [&mut self.a, &mut self.vs, &mut self.x_old]);
+    fn advance(&mut self, dynamics: &dyn Dynamics, Step { t, dt, x, v }: Step) -> StepStats {
+        let n = fit(x.len(), [&mut self.a, &mut self.vs, &mut self.x_old]);
         self.x_old.copy_from_slice(x);
         let dt2 = dt * dt;
         match self.dt_prev {
