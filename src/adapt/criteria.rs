@@ -130,7 +130,7 @@ pub fn select(
     for (e, faces) in mesh.edges() {
         let rest = mesh.rest_length(e.0, e.1);
         let (xa, xb) = (cloth.x[e.0 .0 as usize], cloth.x[e.1 .0 as usize]);
-        let can_refine = rest >= spec.l_min;
+        let can_refine = rest >= spec.refine_min_length();
         // 1. Compression.
         if (xb - xa).norm() < spec.compression_c * rest {
             if can_refine {
@@ -176,7 +176,7 @@ fn old_enough(age: Option<Real>, threshold: Real) -> bool {
 }
 
 /// The smoothing rule (4.19): a neighbour j (sharing a face) of a refine-selected edge i is
-/// selected when `L_i / L_j < c2` (rest lengths, `L_j >= l_min`); a neighbour of a
+/// selected when `L_i / L_j < c2` (rest lengths, `L_j >= refine_min_length`); a neighbour of a
 /// simplify-selected edge is selected for simplification when its age reached 10 % of
 /// `t_simplify` and it is not selected for refinement. One pass; results stay in key order.
 fn smooth(
@@ -206,7 +206,7 @@ fn smooth(
         let li = mesh.rest_length(e.0, e.1);
         for n in neighbours(e) {
             let lj = mesh.rest_length(n.0, n.1);
-            if li / lj < spec.c2 && lj >= spec.l_min {
+            if li / lj < spec.c2 && lj >= spec.refine_min_length() {
                 extra_refine.push((n, RefineReason::Smoothing));
             }
         }

@@ -26,6 +26,9 @@ pub struct AdaptParams {
     pub l_min: Real,
     /// No simplification above this rest length (m). Default 0.25.
     pub l_max: Real,
+    /// The shortest rest edge a strategy may create (m); 0 leaves `l_min` and `max_depth` in
+    /// charge ([`AdaptParams::refine_min_length`], [`AdaptParams::depth_limit`]). Default 0.
+    pub h_min: Real,
     /// Smoothing (4.19): refine a neighbour j of a selected edge i when `L_i / L_j < c2`
     /// (dimensionless). Default 0.75.
     pub c2: Real,
@@ -68,6 +71,7 @@ impl Default for AdaptParams {
             cos_simplify: 0.999995,
             l_min: 0.08,
             l_max: 0.25,
+            h_min: 0.0,
             c2: 0.75,
             t_simplify: 0.1,
             flat_contact_cos: 0.97,
@@ -80,5 +84,50 @@ impl Default for AdaptParams {
             depth_factor: 0.95,
             force_completion: false,
         }
+    }
+}
+
+impl AdaptParams {
+    /// The shortest rest edge (m) the criteria may select for refinement: `2 h_min` when `h_min`
+    /// is set (so the halves are at least `h_min`), else `l_min`.
+    pub fn refine_min_length(&self) -> Real {
+        if self.h_min > 0.0 {
+            2.0 * self.h_min
+        } else {
+            self.l_min
+        }
+    }
+
+    /// The subdivision depth limit in 1-to-4 levels for a mesh whose longest initial rest edge is
+    /// `longest` (m): with `h_min` set, the levels that halving `longest` takes to reach `h_min`
+    /// (so the depth never binds before the length does), else `max_depth`.
+    pub fn depth_limit(&self, longest: Real) -> u32 {
+        if self.h_min > 0.0 && longest > self.h_min {
+            (longest / self.h_min).log2().ceil().min(30.0) as u32
+        } else if self.h_min > 0.0 {
+            0
+        } else {
+            self.max_depth
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn h_min_replaces_the_length_and_depth_limits() {
+        let p = AdaptParams::default();
+        assert_eq!(p.refine_min_length(), p.l_min);
+        assert_eq!(p.depth_limit(0.25), p.max_depth);
+        let p = AdaptParams {
+            h_min: 0.02,
+            ..AdaptParams::default()
+        };
+        assert_eq!(p.refine_min_length(), 0.04);
+        // 0.25 m halved 4 times is 0.0156 m < 0.02 m: 4 levels reach h_min.
+        assert_eq!(p.depth_limit(0.25), 4);
+        assert_eq!(p.depth_limit(0.01), 0);
     }
 }

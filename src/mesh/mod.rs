@@ -268,6 +268,13 @@ impl Mesh {
         (self.rest(b) - self.rest(a)).norm()
     }
 
+    /// The longest rest edge of the mesh (m); 0 for a mesh without edges.
+    pub fn longest_rest_edge(&self) -> Real {
+        self.edges()
+            .map(|(e, _)| self.rest_length(e.0, e.1))
+            .fold(0.0, Real::max)
+    }
+
     /// Barycentric rest area of a vertex: a third of the rest areas of its faces (m²).
     pub fn vertex_rest_area(&self, v: VertexId) -> Real {
         self.vertex_faces(v)

@@ -138,6 +138,7 @@ impl From<&AdaptivitySpec> for AdaptParams {
             cos_refine: a.cos_refine,
             cos_simplify: a.cos_simplify,
             l_min: a.l_min,
+            h_min: a.h_min,
             l_max: a.l_max,
             c2: a.c2,
             t_simplify: a.t_simplify,

@@ -400,6 +400,12 @@ pub struct AdaptivitySpec {
     pub l_min: Real,
     /// No simplification above this rest length (m). Default 0.25.
     pub l_max: Real,
+    /// The resolution knob of every adaptive strategy: the shortest rest edge a strategy may
+    /// create (m). 0 (the default) leaves `l_min` and `max_depth` in charge; set, it replaces
+    /// both: an edge is refined only when its halves are at least `h_min`, and `simnett` and
+    /// `bisect48` may go as many levels deep as halving the longest initial edge down to `h_min`
+    /// takes. Setting it together with a non-default `l_min` or `max_depth` is an error.
+    pub h_min: Real,
     /// Smoothing (4.19): refine a neighbour j of a selected edge i when `L_i / L_j < c2`.
     /// Default 0.75.
     pub c2: Real,
@@ -444,6 +450,7 @@ impl Default for AdaptivitySpec {
             cos_simplify: 0.999995,
             l_min: 0.08,
             l_max: 0.25,
+            h_min: 0.0,
             c2: 0.75,
             t_simplify: 0.1,
             density_refine: 1.01,

@@ -23,7 +23,9 @@
 
 use super::labels::Labels;
 use super::ops::OpError;
-use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
+use crate::adapt::{
+    select, AdaptContext, AdaptError, AdaptParams, AdaptReport, Adaptivity, EdgeInfo,
+};
 use crate::cloth::Cloth;
 use crate::math::Real;
 use crate::mesh::{EdgeKey, Mesh, VertexId};
@@ -74,9 +76,11 @@ impl Bisect48 {
     }
 
     /// Labels the mesh on the first call; afterwards checks the labels still describe it.
-    fn prepare(&mut self, mesh: &Mesh, max_level: u32) -> Result<(), AdaptError> {
+    fn prepare(&mut self, mesh: &Mesh, spec: &AdaptParams) -> Result<(), AdaptError> {
         match &self.labels {
             None => {
+                // Two bisections make one 1-to-4 level.
+                let max_level = 2 * spec.depth_limit(mesh.longest_rest_edge());
                 self.labels = Some(Labels::new(mesh, max_level));
                 self.born = vec![Real::NEG_INFINITY; mesh.vertex_slots()];
                 Ok(())
@@ -93,7 +97,7 @@ impl Adaptivity for Bisect48 {
 
     fn adapt(&mut self, cloth: &mut Cloth, ctx: &AdaptContext) -> Result<AdaptReport, AdaptError> {
         let spec = ctx.params;
-        self.prepare(&cloth.mesh, 2 * spec.max_depth)?;
+        self.prepare(&cloth.mesh, spec)?;
         let selection = select(
             cloth,
             ctx.obstacles,

@@ -43,7 +43,9 @@ pub enum Mode {
 /// Parameters of the elementary re-meshing operation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RemeshParams {
-    /// No refinement below this rest length (m); the edge floor is `floor_factor * l_min`.
+    /// No refinement below this rest length (m); the edge floor is `floor_factor * l_min`
+    /// (from `AdaptParams::refine_min_length`: `2 h_min` when `h_min` is set, so the floor is
+    /// `h_min`).
     /// Default 0.08 (`l_min`).
     pub l_min: Real,
     /// Simplification never targets or merges cloth-border edges beyond this rest length (m).
@@ -99,7 +101,7 @@ impl RemeshParams {
     /// The parameters set by the adaptivity parameters, defaults for the rest.
     pub fn from_adapt(params: &AdaptParams) -> Self {
         RemeshParams {
-            l_min: params.l_min,
+            l_min: params.refine_min_length(),
             l_max: params.l_max,
             density_refine: params.density_refine,
             density_simplify: params.density_simplify,

@@ -28,6 +28,8 @@ use std::collections::BTreeSet;
 #[derive(Clone, Debug, Default)]
 pub struct Simnett {
     hierarchy: Option<Hierarchy>,
+    /// The depth limit (1-to-4 levels), fixed at the first adaptation from the initial mesh.
+    depth_limit: u32,
 }
 
 impl Simnett {
@@ -82,10 +84,14 @@ impl Adaptivity for Simnett {
     }
 
     fn adapt(&mut self, cloth: &mut Cloth, ctx: &AdaptContext) -> Result<AdaptReport, AdaptError> {
+        let spec = ctx.params;
+        if self.hierarchy.is_none() {
+            self.depth_limit = spec.depth_limit(cloth.mesh.longest_rest_edge());
+        }
+        let depth_limit = self.depth_limit;
         let h = self
             .hierarchy
             .get_or_insert_with(|| Hierarchy::new(&cloth.mesh));
-        let spec = ctx.params;
         let now = ctx.time;
         let sel = select(
             cloth,
@@ -106,9 +112,9 @@ impl Adaptivity for Simnett {
             let x = &target.cloth.x;
             let length = (x[e.1 .0 as usize] - x[e.0 .0 as usize]).norm();
             let done: Result<Vec<OpRecord>, OpError> = if spec.force_completion {
-                h.split_edge_forced(&mut target, e, spec.max_depth, now)
+                h.split_edge_forced(&mut target, e, depth_limit, now)
             } else {
-                h.split_edge(&mut target, e, spec.max_depth, now)
+                h.split_edge(&mut target, e, depth_limit, now)
                     .map(|r| vec![r])
             };
             match done {

@@ -7,6 +7,7 @@ mod compare;
 mod golden;
 mod integrators;
 mod physics_laws;
+mod resolution;
 mod runs;
 mod study;
 mod transfer;

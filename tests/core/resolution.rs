@@ -1,0 +1,85 @@
+//! The one resolution knob of every adaptive strategy, `adaptivity.h_min`: no strategy creates a
+//! rest edge shorter than it, and a smaller `h_min` lets every strategy refine further.
+use crate::common::{run_into, scene};
+use adaptcloth::strategies::STRATEGIES;
+use std::path::Path;
+
+/// The shortest rest edge (m, from the frames' `vt`) over every frame of a run, and the largest
+/// vertex count.
+fn shortest_rest_edge(run: &Path) -> (f64, usize) {
+    let mut frames: Vec<_> = std::fs::read_dir(run.join("frames"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    frames.sort();
+    let (mut shortest, mut vertices) = (f64::INFINITY, 0);
+    for f in frames {
+        let obj = adaptcloth::io::read_obj(&f).unwrap();
+        vertices = vertices.max(obj.texcoords.len());
+        for (_, c) in obj.triangle_corners() {
+            for k in 0..3 {
+                let (a, b) = (c[k].vt.unwrap(), c[(k + 1) % 3].vt.unwrap());
+                let (p, q) = (obj.texcoords[a], obj.texcoords[b]);
+                shortest = shortest.min(((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2)).sqrt());
+            }
+        }
+    }
+    (shortest, vertices)
+}
+
+#[test]
+fn no_strategy_creates_an_edge_shorter_than_h_min_and_a_smaller_h_min_refines_more() {
+    let dir = tempfile::tempdir().unwrap();
+    for info in STRATEGIES.iter().filter(|s| s.edits_mesh) {
+        let mut vertices = Vec::new();
+        for h_min in [0.06, 0.03] {
+            let strategy = format!("adaptivity.strategy=\"{}\"", info.name);
+            let h = format!("adaptivity.h_min={h_min}");
+            let loaded = scene(
+                "sphere",
+                &[
+                    &strategy,
+                    &h,
+                    "integrator.name=\"implicit_euler\"",
+                    "time.mode=\"fixed\"",
+                    "time.dt=0.004",
+                    "time.duration=0.45",
+                    "time.frame_rate=20",
+                ],
+            );
+            let out = dir.path().join(format!("{}-{h_min}", info.name));
+            run_into(&loaded, &out);
+            let (shortest, n) = shortest_rest_edge(&out);
+            assert!(
+                shortest >= h_min * (1.0 - 1e-6),
+                "{}: a rest edge of {shortest} m with h_min = {h_min} m",
+                info.name
+            );
+            vertices.push(n);
+        }
+        assert!(
+            vertices[1] > vertices[0],
+            "{}: h_min 0.03 should refine beyond h_min 0.06: {vertices:?}",
+            info.name
+        );
+    }
+}
+
+#[test]
+fn h_min_with_l_min_or_max_depth_is_an_error() {
+    for extra in ["adaptivity.l_min=0.05", "adaptivity.max_depth=4"] {
+        let overrides = vec![
+            "adaptivity.strategy=\"bisect48\"".to_string(),
+            "adaptivity.h_min=0.03".to_string(),
+            extra.to_string(),
+        ];
+        let e = adaptcloth::scene::load_embedded("sphere", &overrides)
+            .unwrap()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("adaptivity.h_min") && e.contains("not both"),
+            "{e}"
+        );
+    }
+}
