@@ -147,20 +147,51 @@ mod tests {
                         && (n - Vector::new(p.x / planar, 0.0, p.z / planar)).length() < 1e-12;
                     let on_cap = (p.y.abs() - H).abs() < 1e-12 * H && n == Vector::Y * p.y.signum();
                     prop_assert!(on_side || on_cap, "{p:?}, {n:?}");
-                    // parry's GJK normal is converged to about 1e-5; at a rim both are valid.
-                    let rim = (p.y.abs() - H).abs() < 1e-6 && (planar - R).abs() < 1e-6;
-                    prop_assert!(rim || (hit.normal.normalize() - n).length() < 1e-4,
+                    // parry's normal comes from its GJK iteration and is only accurate to about
+                    // 1e-4 (measured: 1.02e-4 on a side hit; within ~1e-5 of a rim it returns a
+                    // blend of the side and cap normals); ours is exact (the checks above). So
+                    // within GJK's accuracy of a rim both are valid.
+                    let rim = (p.y.abs() - H).abs() < 1e-4 && (planar - R).abs() < 1e-4;
+                    prop_assert!(rim || (hit.normal.normalize() - n).length() < 1e-3,
                         "{hit:?} vs {n:?}");
                 }
                 (None, None) => {}
                 (theirs, ours) => {
-                    // Only a ray that grazes the surface (tangent, through a rim, or ending on
-                    // it) may be decided differently within GJK's tolerance.
+                    // parry's GJK cast is no oracle here: it misses some real entries (found over
+                    // 4e5 cases). So the disagreement is settled by brute force: ours must be a
+                    // real first entry, and when ours finds none, no sampled point of the segment
+                    // may be strictly inside; only grazing paths may be decided either way.
                     let t = theirs.map(|h| h.time_of_impact).or(ours.map(|o| o.0)).unwrap();
-                    prop_assert!(grazing(origin, dir, t), "parry {theirs:?}, ours {ours:?}");
+                    let real_entry = ours.is_some_and(|(t, _)| first_entry(origin, dir, t));
+                    let never_inside = ours.is_none() && !sampled_inside(origin, dir);
+                    prop_assert!(
+                        real_entry || never_inside || grazing(origin, dir, t),
+                        "parry {theirs:?}, ours {ours:?}"
+                    );
                 }
             }
         }
+    }
+
+    /// Strictly inside the cylinder (by 1e-9 of its size).
+    fn inside(p: Vector) -> bool {
+        p.y.abs() < H - 1e-9 && p.x.hypot(p.z) < R - 1e-9
+    }
+
+    /// Whether `t` is where the segment first enters: outside at every sample before it, inside
+    /// just after it (or ending there).
+    fn first_entry(origin: Vector, dir: Vector, t: Real) -> bool {
+        let before = (0..1000).all(|k| !inside(origin + dir * (t * k as Real / 1000.0)));
+        let after = (1..=100).any(|k| {
+            let s = t + (1.0 - t) * k as Real / 1e4;
+            inside(origin + dir * s)
+        });
+        before && (after || (t - 1.0).abs() < 1e-9)
+    }
+
+    /// Whether any of 10^4 points of the segment is strictly inside.
+    fn sampled_inside(origin: Vector, dir: Vector) -> bool {
+        (0..=10_000).any(|k| inside(origin + dir * (k as Real / 1e4)))
     }
 
     /// Whether the path meets the cylinder's surface at `t` only tangentially, at a rim, or at
