@@ -38,7 +38,7 @@ pub struct AdaptParams {
     /// its faces and the obstacle normal have an absolute cosine at least this (flat contact).
     /// Default 0.97.
     pub flat_contact_cos: Real,
-    /// Simulated time between adaptation passes (s); 0 adapts after every step. Default 0.
+    /// Simulated time between adaptation passes (s); 0 adapts after every step. Default 0.01.
     pub interval: Real,
     /// Strategy-specific (`remesh`, `bisect48`: the strategies using the area-scaled curvature
     /// limit): exponent of `theta_refine = theta_max (A_max / A_e)^exponent`. Default 0.5.
@@ -75,7 +75,7 @@ impl Default for AdaptParams {
             c2: 0.75,
             t_simplify: 0.1,
             flat_contact_cos: 0.97,
-            interval: 0.0,
+            interval: 0.01,
             curvature_exponent: 0.5,
             density_refine: 1.01,
             density_simplify: 0.35,
