@@ -4,6 +4,17 @@
 
 use super::*;
 
+/// What a hard case runs: the strategy and integrator, at the suite's sizes.
+#[derive(Clone, Copy, Debug)]
+pub struct Case<'a> {
+    /// Strategy name.
+    pub strategy: &'a str,
+    /// Integrator name.
+    pub integrator: &'a str,
+    /// Grid, durations and drop height.
+    pub sizes: &'a CaseSizes,
+}
+
 /// One hard case's result.
 #[derive(Clone, Debug)]
 pub struct CaseResult {
@@ -86,7 +97,8 @@ fn energy_words(o: &Outcome) -> String {
 }
 
 /// Stiff material: `hanging` at E = 1e9.
-pub fn case_stiff(strategy: &str, integrator: &str, beta: Real, sizes: &CaseSizes) -> CaseResult {
+pub fn case_stiff(c: &Case, beta: Real) -> CaseResult {
+    let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
     let n = sizes.resolution;
     let mut loaded = sized("hanging", integrator, strategy, n, sizes.duration.min(0.2));
     loaded.scene.material.young = 1e9;
@@ -106,12 +118,8 @@ pub fn case_stiff(strategy: &str, integrator: &str, beta: Real, sizes: &CaseSize
 }
 
 /// A fixed step of `factor` times the explicit limit on `hanging` (E = 1e7).
-pub fn case_beyond_limit(
-    strategy: &str,
-    integrator: &str,
-    factor: Real,
-    sizes: &CaseSizes,
-) -> CaseResult {
+pub fn case_beyond_limit(c: &Case, factor: Real) -> CaseResult {
+    let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
     let n = sizes.resolution;
     let mut loaded = sized("hanging", integrator, strategy, n, sizes.duration);
     let unit = Simulation::new(&loaded)
@@ -205,12 +213,8 @@ pub fn graded_mesh(fine: usize, tiny: Real, coarse: usize) -> (Mesh, Vec<Vec3>) 
 }
 
 /// Tiny elements next to large ones (vertex mass ratio about 1e-3), pinned at the two far corners.
-pub fn case_tiny_elements(
-    strategy: &str,
-    integrator: &str,
-    beta: Real,
-    sizes: &CaseSizes,
-) -> CaseResult {
+pub fn case_tiny_elements(c: &Case, beta: Real) -> CaseResult {
+    let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
     let mut loaded = embedded("hanging", integrator, strategy);
     loaded.scene.cloth.pinned.clear();
     loaded.scene.time.duration = sizes.tiny_duration;
@@ -250,7 +254,8 @@ pub fn case_tiny_elements(
 
 /// The cloth dropped from `drop_height` above the sphere's top (impact at about
 /// `sqrt(2 g h)`): no tunnelling.
-pub fn case_impact(strategy: &str, integrator: &str, beta: Real, sizes: &CaseSizes) -> CaseResult {
+pub fn case_impact(c: &Case, beta: Real) -> CaseResult {
+    let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
     let mut loaded = embedded("sphere", integrator, strategy);
     let s = &mut loaded.scene;
     s.cloth.resolution = sizes.resolution;
@@ -295,12 +300,8 @@ pub fn case_impact(strategy: &str, integrator: &str, beta: Real, sizes: &CaseSiz
 
 /// A long run of `hanging` with damping: total energy never rises beyond the tolerance after the
 /// first 0.1 s.
-pub fn case_long_run(
-    strategy: &str,
-    integrator: &str,
-    beta: Real,
-    sizes: &CaseSizes,
-) -> CaseResult {
+pub fn case_long_run(c: &Case, beta: Real) -> CaseResult {
+    let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
     let n = sizes.resolution;
     let mut loaded = sized("hanging", integrator, strategy, n, sizes.long_duration);
     set_step(&mut loaded, beta);
@@ -320,12 +321,8 @@ pub fn case_long_run(
 
 /// Two opposite borders (u = 0 and u = 1, every vertex pinned and driven at 0.4 m/s towards the
 /// other) close the cloth to 20 % of its width in 1 s: it must buckle with no non-finite value.
-pub fn case_compression(
-    strategy: &str,
-    integrator: &str,
-    beta: Real,
-    sizes: &CaseSizes,
-) -> CaseResult {
+pub fn case_compression(c: &Case, beta: Real) -> CaseResult {
+    let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
     let mut loaded = embedded("hanging", integrator, strategy);
     let s = &mut loaded.scene;
     let n = sizes.resolution;
@@ -372,18 +369,23 @@ pub fn case_compression(
 /// Every hard case for one strategy with the [`CASE_INTEGRATORS`], plus the beyond-the-limit
 /// case for every integrator.
 pub fn hard_cases(strategy: &str, sizes: &CaseSizes) -> Vec<CaseResult> {
+    let case = |integrator| Case {
+        strategy,
+        integrator,
+        sizes,
+    };
     let mut out = Vec::new();
     for (integrator, beta) in CASE_INTEGRATORS {
-        out.push(case_stiff(strategy, integrator, beta, sizes));
+        out.push(case_stiff(&case(integrator), beta));
     }
     for integrator in INTEGRATORS {
-        out.push(case_beyond_limit(strategy, integrator, 10.0, sizes));
+        out.push(case_beyond_limit(&case(integrator), 10.0));
     }
     for (integrator, beta) in CASE_INTEGRATORS {
-        out.push(case_tiny_elements(strategy, integrator, beta, sizes));
-        out.push(case_impact(strategy, integrator, beta, sizes));
-        out.push(case_long_run(strategy, integrator, beta, sizes));
-        out.push(case_compression(strategy, integrator, beta, sizes));
+        out.push(case_tiny_elements(&case(integrator), beta));
+        out.push(case_impact(&case(integrator), beta));
+        out.push(case_long_run(&case(integrator), beta));
+        out.push(case_compression(&case(integrator), beta));
     }
     out
 }
