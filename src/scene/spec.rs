@@ -401,10 +401,10 @@ pub struct AdaptivitySpec {
     /// No simplification above this rest length (m). Default 0.25.
     pub l_max: Real,
     /// The resolution knob of every adaptive strategy: the shortest rest edge a strategy may
-    /// create (m). 0 (the default) leaves `l_min` and `max_depth` in charge; set, it replaces
-    /// both: an edge is refined only when its halves are at least `h_min`, and `simnett` and
-    /// `bisect48` may go as many levels deep as halving the longest initial edge down to `h_min`
-    /// takes. Setting it together with a non-default `l_min` or `max_depth` is an error.
+    /// create (m). 0 (the default) leaves `l_min` and `max_depth` in charge; set, it overrides
+    /// both (whatever the scene gives them): an edge is refined only when its halves are at
+    /// least `h_min`, and `simnett` and `bisect48` may go as many levels deep as halving the
+    /// longest initial edge down to `h_min` takes.
     pub h_min: Real,
     /// Smoothing (4.19): refine a neighbour j of a selected edge i when `L_i / L_j < c2`.
     /// Default 0.75.

@@ -283,14 +283,6 @@ pub(super) fn validate(
         return Err(c.fail("adaptivity.l_min", a.l_min, "expected l_min < l_max"));
     }
     c.non_negative("adaptivity.h_min", a.h_min)?;
-    let d = AdaptivitySpec::default();
-    if a.h_min > 0.0 && (a.l_min != d.l_min || a.max_depth != d.max_depth) {
-        return Err(c.fail(
-            "adaptivity.h_min",
-            a.h_min,
-            "h_min replaces l_min and max_depth: set h_min, or l_min and max_depth, not both",
-        ));
-    }
     c.positive("adaptivity.c2", a.c2)?;
     c.non_negative("adaptivity.t_simplify", a.t_simplify)?;
     c.positive("adaptivity.density_refine", a.density_refine)?;

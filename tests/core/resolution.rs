@@ -66,20 +66,29 @@ fn no_strategy_creates_an_edge_shorter_than_h_min_and_a_smaller_h_min_refines_mo
 }
 
 #[test]
-fn h_min_with_l_min_or_max_depth_is_an_error() {
-    for extra in ["adaptivity.l_min=0.05", "adaptivity.max_depth=4"] {
-        let overrides = vec![
-            "adaptivity.strategy=\"bisect48\"".to_string(),
-            "adaptivity.h_min=0.03".to_string(),
-            extra.to_string(),
-        ];
-        let e = adaptcloth::scene::load_embedded("sphere", &overrides)
-            .unwrap()
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.contains("adaptivity.h_min") && e.contains("not both"),
-            "{e}"
-        );
-    }
+fn h_min_overrides_the_scenes_own_length_and_depth_limits() {
+    // round_table.toml sets its own refinement limits (the source's table); h_min overrides them.
+    let dir = tempfile::tempdir().unwrap();
+    let loaded = scene(
+        "round_table",
+        &[
+            "adaptivity.strategy=\"bisect48\"",
+            "adaptivity.h_min=0.02",
+            "integrator.name=\"implicit_euler\"",
+            "time.mode=\"fixed\"",
+            "time.dt=0.004",
+            "time.duration=0.6",
+            "time.frame_rate=20",
+        ],
+    );
+    assert!(loaded.scene.adaptivity.l_min > 2.0 * 0.02);
+    let out = dir.path().join("rt");
+    run_into(&loaded, &out);
+    let (shortest, _) = shortest_rest_edge(&out);
+    assert!(shortest >= 0.02 * (1.0 - 1e-6), "{shortest}");
+    assert!(
+        shortest < 0.5 * loaded.scene.adaptivity.l_min,
+        "refined below the scene's l_min ({}): shortest edge {shortest}",
+        loaded.scene.adaptivity.l_min
+    );
 }
