@@ -115,7 +115,9 @@ pub fn settings(c: &Comparison) -> String {
     let m = &c.manifest;
     let r = &m.reference;
     format!(
-        "Scene `{}` ({}), {} s simulated, runs at the scene's parameters (dynamic step, beta = {}); \
+        "Scene `{}` ({}), {} s simulated; each run at the scene's parameters (its time stepping: \
+         beta = {}) except what its configuration sets (integrator, step, swept keys: see its \
+         label and its `scene.resolved.toml`); \
          {} parallel job(s) on this machine (wall times include writing frames and metrics). \
          Reference: static {res}x{res}, {}, beta = {}{}, {} steps, {} s wall (cache key `{}`). \
          Errors are measured on {s}x{s} material points (MODEL.md §1). \
