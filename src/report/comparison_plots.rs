@@ -28,17 +28,22 @@ fn metric_series(out: &Path, c: &Comparison, column: &str) -> Vec<Series> {
         .collect()
 }
 
-/// What varies along a curve at one run: the grid for static runs, else the start grid and the
-/// swept values (the label without its series and integrator).
+/// What varies along a curve at one run, short: the grid for static runs and runs without a
+/// sweep, else the swept values (`0.03` for `...-h_min=0.03`; `0.03/2` for two swept keys).
 fn tag(r: &Row) -> String {
-    if r.strategy == "static" {
-        return r.resolution.to_string();
-    }
-    let rest = r
+    let sweep = r
         .label
-        .strip_prefix(&format!("{}-", r.series))
-        .unwrap_or(&r.label);
-    rest.replacen(&format!("-{}", r.integrator), "", 1)
+        .split_once(&format!("-{}-", r.integrator))
+        .map(|(_, rest)| rest)
+        .filter(|rest| r.strategy != "static" && !rest.is_empty());
+    match sweep {
+        Some(rest) => rest
+            .split('-')
+            .filter_map(|kv| kv.split_once('=').map(|(_, v)| v))
+            .collect::<Vec<_>>()
+            .join("/"),
+        None => r.resolution.to_string(),
+    }
 }
 
 /// The speed-error panels of a comparison in `metric`: one per integrator, one curve per series.
@@ -205,4 +210,31 @@ pub fn write_plots(
     .map_err(plot_err)?;
     push("error", f);
     Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::table::tests::row;
+
+    #[test]
+    fn tags_name_what_varies_along_a_curve() {
+        let r = |strategy: &str, label: &str| Row {
+            strategy: strategy.into(),
+            label: label.into(),
+            integrator: "implicit_euler".into(),
+            resolution: 5,
+            ..row("x")
+        };
+        assert_eq!(tag(&r("static", "static-5-implicit_euler")), "5");
+        assert_eq!(tag(&r("bisect48", "bisect48-5-implicit_euler")), "5");
+        assert_eq!(
+            tag(&r("bisect48", "bisect48-5-implicit_euler-h_min=0.03")),
+            "0.03"
+        );
+        assert_eq!(
+            tag(&r("simnett", "s-5-implicit_euler-h_min=0.03-interval=0.01")),
+            "0.03/0.01"
+        );
+    }
 }
