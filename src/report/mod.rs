@@ -79,6 +79,12 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
         );
     }
     let _ = writeln!(md, "{}\n", tables::settings(c));
+    let summary = reading::summary(&[(out.to_path_buf(), c.clone())]);
+    let _ = writeln!(
+        md,
+        "## Summary: speed-up over the static mesh at equal error\n\n{}",
+        summary
+    );
     let _ = writeln!(md, "## Runs\n\n{}", tables::table(c));
     let _ = writeln!(md, "Table: [comparison.csv](comparison.csv); manifest: [comparison.json](comparison.json); each run's outputs in `runs/<label>/`.\n");
     if !m.skipped.is_empty() {
@@ -116,7 +122,7 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
         Section {
             title: format!("Comparison: {}", m.scene),
             markdown: format!(
-                "{}\n\n{}\n\n{}\n\n## Where the time goes\n\n{}",
+                "{}\n\n{summary}\n{}\n\n{}\n\n## Where the time goes\n\n{}",
                 tables::settings(c),
                 tables::table(c),
                 reading::reading(c),
