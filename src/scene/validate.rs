@@ -14,6 +14,11 @@ enum Range {
     NonNegative,
 }
 
+/// Shortest and longest cloth side accepted (m): beyond them rest areas and masses under- or
+/// overflow (a 1e-200 m or 1e308 m cloth passed the old check and panicked later).
+const MIN_LENGTH: Real = 1e-6;
+const MAX_LENGTH: Real = 1e6;
+
 /// Collects the first out-of-range value of a scene.
 struct Checker<'a> {
     text: &'a str,
@@ -96,7 +101,15 @@ pub(super) fn validate(
 ) -> Result<(), SceneError> {
     let c = Checker { text, source };
     let cloth = &scene.cloth;
-    c.positive("cloth.size", cloth.size[0].min(cloth.size[1]))?;
+    for side in cloth.size {
+        if !(MIN_LENGTH..=MAX_LENGTH).contains(&side) {
+            return Err(c.fail(
+                "cloth.size",
+                format!("{:?}", cloth.size),
+                &format!("expected two sides in [{MIN_LENGTH:e}, {MAX_LENGTH:e}] m"),
+            ));
+        }
+    }
     c.finite3("cloth.center", cloth.center)?;
     c.finite3("cloth.rotation_deg", cloth.rotation_deg)?;
     c.finite3("cloth.velocity", cloth.velocity)?;
@@ -230,10 +243,9 @@ pub(super) fn validate(
                 half_extents,
             } => {
                 c.finite3(&key("center"), *center)?;
-                c.positive(
-                    &key("half_extents"),
-                    half_extents.iter().copied().fold(Real::INFINITY, Real::min),
-                )?;
+                for h in half_extents {
+                    c.positive(&key("half_extents"), *h)?;
+                }
             }
             ObstacleShape::Mesh {
                 file,

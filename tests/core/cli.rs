@@ -23,6 +23,13 @@ fn bad_input_exits_2_with_a_clear_message() {
         "[[obstacles]]\nkind = \"mesh\"\nfile = \"gone.obj\"\n",
     )
     .unwrap();
+    let boxed = dir.path().join("box.toml");
+    std::fs::write(
+        &boxed,
+        "[[obstacles]]\nkind = \"box\"\ncenter = [0.0, 0.0, 0.0]\nhalf_extents = [0.1, nan, 0.1]\n",
+    )
+    .unwrap();
+    let box_nan = ["run", boxed.to_str().unwrap()];
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["run", bad.to_str().unwrap()], "material.rho"),
         (vec!["run", typo.to_str().unwrap()], "resolutoin"),
@@ -37,6 +44,18 @@ fn bad_input_exits_2_with_a_clear_message() {
             "cloth.resolution",
         ),
         (vec!["run", "--duration=-1"], "time.duration"),
+        // Values that passed validation and panicked later (issue 15, defect 1).
+        (vec!["run", "--set", "cloth.size=[1.0, nan]"], "cloth.size"),
+        (vec!["run", "--set", "cloth.size=[1.0, inf]"], "cloth.size"),
+        (
+            vec!["run", "--set", "cloth.size=[1e308, 1e308]"],
+            "cloth.size",
+        ),
+        (
+            vec!["run", "--set", "cloth.size=[1e-200, 1e-200]"],
+            "cloth.size",
+        ),
+        (box_nan.as_slice().to_vec(), "half_extents"),
     ];
     for (args, needle) in cases {
         let (code, err) = adaptcloth(&args);
