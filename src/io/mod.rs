@@ -28,6 +28,23 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     std::fs::rename(&tmp, path)
 }
 
+/// `name` made safe as one file-name component: characters other than ASCII letters, digits,
+/// `-`, `_` and `.` become `_`, and leading dots are dropped, so it can never name a parent
+/// folder, an absolute path or a hidden file. Empty when nothing is left.
+pub fn file_safe(name: &str) -> String {
+    let mapped: String = name
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    mapped.trim_start_matches('.').to_string()
+}
+
 /// Reads a CSV file of numbers: its header and rows (cells that do not parse become NaN).
 pub fn read_numeric_csv(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f64>>)> {
     let text = std::fs::read_to_string(path)?;
@@ -47,4 +64,22 @@ pub fn read_numeric_csv(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f6
         })
         .collect();
     Ok((header, rows))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::file_safe;
+
+    #[test]
+    fn names_cannot_escape_the_output_folder() {
+        assert_eq!(file_safe("round_table"), "round_table");
+        assert_eq!(file_safe("../../escaped"), "_.._escaped");
+        assert_eq!(file_safe("/tmp/x"), "_tmp_x");
+        assert_eq!(file_safe(".."), "");
+        assert_eq!(file_safe("a b\\c:d"), "a_b_c_d");
+        for n in ["../../escaped", "/tmp/x", "..", "a/../../b"] {
+            let s = file_safe(n);
+            assert!(!s.contains('/') && !s.starts_with('.'), "{n} -> {s}");
+        }
+    }
 }

@@ -247,8 +247,10 @@ fn from_text_with(
             .map_err(|e| parse_error(&format!("{source} with --set"), e))?;
     }
     overrides.apply_typed(&mut scene);
+    // The name names output folders: it must stay one safe file-name component.
+    scene.name = crate::io::file_safe(&scene.name);
     if scene.name.is_empty() {
-        scene.name = default_name.to_string();
+        scene.name = crate::io::file_safe(default_name);
     }
     validate::validate(&scene, text, source, &base_dir)?;
     Ok(LoadedScene {

@@ -12,7 +12,9 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct Scene {
-    /// Short name used in outputs (defaults to the file stem).
+    /// Short name used in outputs (defaults to the file stem); made a safe file name on load
+    /// (`io::file_safe`: no path separators, no leading dot), since output folders are named
+    /// after it.
     #[serde(default)]
     pub name: String,
     /// One-line description.

@@ -129,3 +129,42 @@ fn run_writes_outputs_and_exits_0() {
         std::fs::read(without).unwrap()
     );
 }
+
+#[test]
+fn a_scene_name_cannot_write_outside_the_output_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let work = dir.path().join("work");
+    std::fs::create_dir_all(&work).unwrap();
+    for name in ["../../escaped", "/tmp/adaptcloth-escaped-name"] {
+        let scene = work.join("s.toml");
+        std::fs::write(
+            &scene,
+            format!("name = \"{name}\"\n[time]\nduration = 0.01\n"),
+        )
+        .unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+            .current_dir(&work)
+            .args(["run", "s.toml", "--quiet"])
+            .output()
+            .expect("binary runs");
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        // Everything the run wrote is under work/out/.
+        let entries: Vec<String> = std::fs::read_dir(&work)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        let mut entries = entries;
+        entries.sort();
+        assert_eq!(entries, ["out", "s.toml"], "{name}");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1, "{name}");
+        assert!(!std::path::Path::new("/tmp/adaptcloth-escaped-name-static").exists());
+        let runs: Vec<_> = std::fs::read_dir(work.join("out")).unwrap().collect();
+        assert!(runs
+            .iter()
+            .all(|e| e.as_ref().unwrap().path().join("summary.json").is_file()));
+    }
+}
