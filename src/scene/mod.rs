@@ -115,6 +115,34 @@ impl Overrides {
         }
     }
 
+    /// Each key these overrides set, with the option that set it (`--set key=value`,
+    /// `--strategy NAME`, ...), for error messages.
+    fn options(&self) -> Vec<(String, String)> {
+        let mut out: Vec<(String, String)> = self
+            .set
+            .iter()
+            .filter_map(|arg| {
+                let (key, _) = arg.split_once('=')?;
+                Some((key.trim().to_string(), format!("--set {arg}")))
+            })
+            .collect();
+        let typed = [
+            ("adaptivity.strategy", "--strategy", self.strategy.clone()),
+            ("integrator.name", "--integrator", self.integrator.clone()),
+            (
+                "time.duration",
+                "--duration",
+                self.duration.map(|d| d.to_string()),
+            ),
+        ];
+        for (key, option, value) in typed {
+            if let Some(v) = value {
+                out.push((key.to_string(), format!("{option} {v}")));
+            }
+        }
+        out
+    }
+
     fn apply_typed(&self, scene: &mut Scene) {
         if let Some(s) = &self.strategy {
             scene.adaptivity.strategy = s.clone();
@@ -252,7 +280,7 @@ fn from_text_with(
     if scene.name.is_empty() {
         scene.name = crate::io::file_safe(default_name);
     }
-    validate::validate(&scene, text, source, &base_dir)?;
+    validate::validate(&scene, text, source, &base_dir, &overrides.options())?;
     Ok(LoadedScene {
         scene,
         source: source.to_string(),
@@ -278,7 +306,8 @@ pub fn with_overrides(loaded: &LoadedScene, set: &[String]) -> Result<LoadedScen
         path: format!("{source} with {}", set.join(" ")),
         message: e.to_string().trim_end().to_string(),
     })?;
-    validate::validate(&scene, "", source, &loaded.base_dir)?;
+    let options = Overrides::set(set).options();
+    validate::validate(&scene, "", source, &loaded.base_dir, &options)?;
     Ok(LoadedScene {
         scene,
         ..loaded.clone()

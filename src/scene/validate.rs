@@ -23,16 +23,27 @@ const MAX_LENGTH: Real = 1e6;
 struct Checker<'a> {
     text: &'a str,
     source: &'a str,
+    /// Keys set on the command line, with the option that set them: their errors name the option,
+    /// not a line of the file.
+    options: &'a [(String, String)],
 }
 
 impl Checker<'_> {
-    /// An error for `key` (`section.key`, or `obstacles.N.key`) holding `value`.
+    /// An error for `key` (`section.key`, or `obstacles.N.key`) holding `value`: named by the
+    /// option that set it, else by the file and the key's line.
     fn fail(&self, key: &str, value: impl std::fmt::Display, expected: &str) -> SceneError {
-        let line = find_line(self.text, key)
-            .map(|l| format!(":{l}"))
-            .unwrap_or_default();
+        let option = self.options.iter().rev().find(|(k, _)| k == key);
+        let (path, line) = match option {
+            Some((_, option)) => (option.clone(), String::new()),
+            None => (
+                self.source.to_string(),
+                find_line(self.text, key)
+                    .map(|l| format!(":{l}"))
+                    .unwrap_or_default(),
+            ),
+        };
         SceneError::Invalid {
-            path: self.source.to_string(),
+            path,
             line,
             key: key.to_string(),
             value: value.to_string(),
@@ -98,8 +109,13 @@ pub(super) fn validate(
     text: &str,
     source: &str,
     base_dir: &Path,
+    options: &[(String, String)],
 ) -> Result<(), SceneError> {
-    let c = Checker { text, source };
+    let c = Checker {
+        text,
+        source,
+        options,
+    };
     let cloth = &scene.cloth;
     for side in cloth.size {
         if !(MIN_LENGTH..=MAX_LENGTH).contains(&side) {

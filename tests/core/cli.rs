@@ -168,3 +168,30 @@ fn a_scene_name_cannot_write_outside_the_output_folder() {
             .all(|e| e.as_ref().unwrap().path().join("summary.json").is_file()));
     }
 }
+
+#[test]
+fn an_error_in_a_command_line_value_names_the_option_not_a_scene_line() {
+    for (args, option) in [
+        (
+            vec!["run", "--set", "material.rho=-1"],
+            "--set material.rho=-1",
+        ),
+        (vec!["run", "--strategy", "magic"], "--strategy magic"),
+        (vec!["run", "--duration=-1"], "--duration -1"),
+    ] {
+        let (code, err) = adaptcloth(&args);
+        assert_eq!(code, 2, "{args:?}: {err}");
+        assert!(
+            err.contains(&format!("error: {option}:")),
+            "{args:?}: {err}"
+        );
+        assert!(!err.contains("embedded"), "{args:?}: {err}");
+    }
+    // A value from the file still names the file and its line.
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, "[material]\nrho = -5.0\n").unwrap();
+    let (code, err) = adaptcloth(&["run", bad.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(err.contains("bad.toml:2: material.rho"), "{err}");
+}
