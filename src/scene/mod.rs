@@ -204,6 +204,15 @@ pub fn load_with(path: &Path, overrides: &Overrides) -> Result<LoadedScene, Scen
         .parent()
         .map(Path::to_path_buf)
         .unwrap_or_else(|| PathBuf::from("."));
+    // An empty file is a mistake, not a request for the default scene.
+    if toml::from_str::<toml::Table>(&text).is_ok_and(|t| t.is_empty()) {
+        return Err(SceneError::Parse {
+            path: source,
+            message: "the scene file sets nothing (empty, or comments only); name an embedded \
+                      scene instead (`adaptcloth scenes`) or give its sections"
+                .into(),
+        });
+    }
     from_text_with(&text, &source, &stem, base_dir, overrides)
 }
 

@@ -30,6 +30,8 @@ fn bad_input_exits_2_with_a_clear_message() {
     )
     .unwrap();
     let box_nan = ["run", boxed.to_str().unwrap()];
+    let empty = dir.path().join("empty.toml");
+    std::fs::write(&empty, "# nothing\n\n").unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["run", bad.to_str().unwrap()], "material.rho"),
         (vec!["run", typo.to_str().unwrap()], "resolutoin"),
@@ -56,6 +58,11 @@ fn bad_input_exits_2_with_a_clear_message() {
             "cloth.size",
         ),
         (box_nan.as_slice().to_vec(), "half_extents"),
+        (vec!["run", empty.to_str().unwrap()], "sets nothing"),
+        (
+            vec!["run", dir.path().to_str().unwrap()],
+            "cannot read scene file",
+        ),
     ];
     for (args, needle) in cases {
         let (code, err) = adaptcloth(&args);
