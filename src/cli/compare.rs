@@ -3,7 +3,7 @@
 use super::args::{
     CompareArgs, DocsArgs, ExecutionArgs, MergeArgs, RefOpts, ReferenceArgs, ReportArgs, StudyArgs,
 };
-use super::{interrupt_flag, read_input, show_progress, CliError};
+use super::{interrupt_flag, output_folder, read_input, show_progress, CliError};
 use crate::eval::reference::{self, ReferenceSettings};
 use crate::scene::{self, Overrides};
 use crate::study::{self, CompareOptions, Comparison, ScenePlan, Shard, Study};
@@ -191,6 +191,9 @@ fn run_plans(
     plans: Vec<ScenePlan>,
     e: &Execution,
 ) -> Result<Vec<(PathBuf, Comparison)>, CliError> {
+    for plan in &plans {
+        output_folder(&plan.out)?;
+    }
     let interrupt = interrupt_flag();
     let mut done = Vec::new();
     for ScenePlan {

@@ -130,6 +130,16 @@ fn write_report_file(path: &Path, text: &str) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Creates the output folder `dir` (exit 2 when it cannot be: a file in the way, no permission).
+fn output_folder(dir: &Path) -> Result<(), CliError> {
+    std::fs::create_dir_all(dir).map_err(|e| {
+        CliError::Input(format!(
+            "--out {}: cannot create the output folder: {e}",
+            dir.display()
+        ))
+    })
+}
+
 /// The text of an input file (exit 2 when it cannot be read).
 fn read_input(path: &Path) -> Result<String, CliError> {
     std::fs::read_to_string(path).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))

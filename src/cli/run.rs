@@ -1,7 +1,7 @@
 //! `run`, `scenes`, `render` and `frame-diff`: one scene, one frame.
 
 use super::args::{RenderArgs, RunArgs};
-use super::{interrupt_flag, show_progress, CliError};
+use super::{interrupt_flag, output_folder, show_progress, CliError};
 use crate::report::render::{obstacle_meshes, render_png, FrameMesh};
 use crate::scene::{self, Overrides, EMBEDDED_SCENES};
 use crate::sim::{self, RunOptions, RunStatus, Simulation};
@@ -22,6 +22,7 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
         let name = format!("{}-{}", loaded.scene.name, simulation.strategy_name());
         PathBuf::from("out").join(name)
     });
+    output_folder(&out_dir)?;
     let opts = RunOptions {
         out_dir: out_dir.clone(),
         progress: show_progress(args.quiet),
