@@ -18,18 +18,19 @@ fn overrides(set: &[String], duration: Option<f64>) -> Overrides {
     }
 }
 
-/// `scene` or a positive finite number.
-fn optional_number(option: &str, text: &str, min: f64) -> Result<Option<f64>, CliError> {
+/// `scene` (`None`), or a finite number that is positive, or non-negative when `zero_ok`.
+fn optional_number(option: &str, text: &str, zero_ok: bool) -> Result<Option<f64>, CliError> {
     if text == "scene" {
         return Ok(None);
     }
+    let expected = if zero_ok { ">= 0" } else { "> 0" };
     let bad = || {
         CliError::Input(format!(
-            "{option} {text}: expected a number >= {min} or `scene`"
+            "{option} {text}: expected a number {expected} or `scene`"
         ))
     };
     let x: f64 = text.parse().map_err(|_| bad())?;
-    if x.is_finite() && (x > min || (x == min && min == 0.0)) {
+    if x.is_finite() && (x > 0.0 || (zero_ok && x == 0.0)) {
         Ok(Some(x))
     } else {
         Err(bad())
@@ -53,9 +54,9 @@ fn reference_settings(o: &RefOpts) -> Result<ReferenceSettings, CliError> {
     Ok(ReferenceSettings {
         resolution: o.ref_resolution,
         floor_resolution: o.floor_resolution,
-        beta: optional_number("--ref-beta", &o.ref_beta, f64::MIN_POSITIVE)?,
+        beta: optional_number("--ref-beta", &o.ref_beta, false)?,
         integrator: o.ref_integrator.clone(),
-        dt_initial: optional_number("--ref-dt-initial", &o.ref_dt_initial, 0.0)?,
+        dt_initial: optional_number("--ref-dt-initial", &o.ref_dt_initial, true)?,
         samples: o.samples,
     })
 }
