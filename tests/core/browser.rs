@@ -91,7 +91,7 @@ fn report_html_loads_without_errors_and_draws_the_replay_in_chromium() {
                 "no chromium found under CI: .ci/run must install it (apt-get install chromium)"
             );
         }
-        eprintln!("SKIPPED: no chromium found (/usr/bin/chromium or on PATH); install it with `apt-get install -y chromium` to run this test");
+        crate::common::say_skipped("no chromium found (/usr/bin/chromium or on PATH); install it with `apt-get install -y chromium` to run this test");
         return;
     };
     let dir = tempfile::tempdir().unwrap();

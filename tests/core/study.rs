@@ -90,7 +90,7 @@ fn a_study_sharded_under_gnu_parallel_merges_into_the_single_run() {
             std::env::var("CI").is_err(),
             "GNU parallel is missing under CI: .ci/run installs Debian's `parallel`"
         );
-        eprintln!("SKIPPED: the GNU parallel part (no `parallel` on PATH)");
+        crate::common::say_skipped("the GNU parallel part (no `parallel` on PATH)");
         return;
     }
     let bin = env!("CARGO_BIN_EXE_adaptcloth");
