@@ -19,6 +19,14 @@ enum Range {
 const MIN_LENGTH: Real = 1e-6;
 const MAX_LENGTH: Real = 1e6;
 
+/// Most output frames a run may ask for (`duration x frame_rate`).
+const MAX_FRAMES: Real = 1e5;
+/// Most metrics rows a run may ask for (`duration x metrics_rate`).
+const MAX_METRIC_ROWS: Real = 1e7;
+/// Most steps a fixed-step run may ask for (`duration / dt`): about 20 minutes for the smallest
+/// cloth on this project's machines.
+const MAX_FIXED_STEPS: Real = 1e8;
+
 /// Collects the first out-of-range value of a scene.
 struct Checker<'a> {
     text: &'a str,
@@ -204,6 +212,39 @@ pub(super) fn validate(
     ])?;
     if t.dt_max > 0.0 && t.dt_min > t.dt_max {
         return Err(c.fail("time.dt_min", t.dt_min, "expected dt_min <= dt_max"));
+    }
+    // Counts a run could never finish (a frame rate of 1e9, a fixed step of 1e-300 s).
+    let mut counts = vec![
+        (
+            "time.frame_rate",
+            t.frame_rate,
+            t.duration * t.frame_rate,
+            MAX_FRAMES,
+            "frames",
+        ),
+        (
+            "time.metrics_rate",
+            t.metrics_rate,
+            t.duration * t.metrics_rate,
+            MAX_METRIC_ROWS,
+            "metrics rows",
+        ),
+    ];
+    if t.mode == super::TimeMode::Fixed {
+        counts.push(("time.dt", t.dt, t.duration / t.dt, MAX_FIXED_STEPS, "steps"));
+    }
+    for (key, value, count, max, what) in counts {
+        if count > max {
+            return Err(c.fail(
+                key,
+                format!("{value:e}"),
+                &format!(
+                    "this run would take {count:.3e} {what} over time.duration = {} s; at most \
+                     {max:e} are accepted",
+                    t.duration
+                ),
+            ));
+        }
     }
 
     c.one_of(

@@ -146,7 +146,13 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
             max_penetration = max_penetration.max(row.max_penetration);
             metrics.row(&row)?;
             while next_metrics <= sim.t {
-                next_metrics += metrics_period;
+                let next = next_metrics + metrics_period;
+                if next == next_metrics {
+                    // The period is below the time's resolution: never loop on it.
+                    next_metrics = sim.t + metrics_period.max(Real::EPSILON * sim.t.abs());
+                    break;
+                }
+                next_metrics = next;
             }
         }
         if due_frame {

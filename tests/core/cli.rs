@@ -59,6 +59,22 @@ fn bad_input_exits_2_with_a_clear_message() {
         ),
         (box_nan.as_slice().to_vec(), "half_extents"),
         (vec!["run", empty.to_str().unwrap()], "sets nothing"),
+        // Runs that would never finish (issue 15, defect 3).
+        (
+            vec!["run", "--set", "time.metrics_rate=1e20"],
+            "metrics rows",
+        ),
+        (vec!["run", "--set", "time.frame_rate=1e9"], "frames"),
+        (
+            vec![
+                "run",
+                "--set",
+                "time.mode=\"fixed\"",
+                "--set",
+                "time.dt=1e-300",
+            ],
+            "steps",
+        ),
         (
             vec!["run", dir.path().to_str().unwrap()],
             "cannot read scene file",
