@@ -23,13 +23,14 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
         PathBuf::from("out").join(name)
     });
     output_folder(&out_dir)?;
+    let command = sim::this_command();
     let opts = RunOptions {
         out_dir: out_dir.clone(),
         progress: show_progress(args.quiet),
         interrupt: Some(interrupt_flag()),
         source: loaded.source.clone(),
-        resolved_scene: Some(scene::resolved_toml(&loaded, &sim::this_command())),
-        command: sim::this_command(),
+        resolved_scene: Some(scene::resolved_toml(&loaded, &command)),
+        command,
         ..RunOptions::default()
     };
     eprintln!(

@@ -290,6 +290,7 @@ pub fn run_sampled(
     interrupt: Option<Arc<AtomicBool>>,
 ) -> Result<RunSummary, ReferenceError> {
     let mut simulation = Simulation::new(loaded)?;
+    let command = sim::this_command();
     let opts = RunOptions {
         out_dir: out.to_path_buf(),
         progress: false,
@@ -297,8 +298,8 @@ pub fn run_sampled(
         source: loaded.source.clone(),
         samples: Some(samples),
         bar,
-        resolved_scene: Some(crate::scene::resolved_toml(loaded, &sim::this_command())),
-        command: sim::this_command(),
+        resolved_scene: Some(crate::scene::resolved_toml(loaded, &command)),
+        command,
     };
     sim::run(&mut simulation, &opts).map_err(io_err(out))
 }

@@ -79,7 +79,7 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
         );
     }
     let _ = writeln!(md, "{}\n", tables::settings(c));
-    let summary = reading::summary(&[(out.to_path_buf(), c.clone())]);
+    let summary = reading::summary([c]);
     let _ = writeln!(
         md,
         "## Summary: speed-up over the static mesh at equal error\n\n{}",

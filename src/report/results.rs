@@ -49,7 +49,7 @@ pub fn write_docs(
          (log-log interpolation along its Pareto front; `>=` when its fastest run is already \
          below). Above 1 the strategy buys more accuracy per second than the static mesh. \
          Details, profiles and plots per scene below.\n\n{}",
-        summary(items)
+        summary(items.iter().map(|(_, c)| c))
     );
     let _ = writeln!(md, "{notes}\n");
     let _ = writeln!(
