@@ -311,6 +311,14 @@ impl Simulation {
     }
 
     /// Locates the tracked material points again after a mesh change.
+    /// Call after editing `cloth.mesh` from outside the step (experiments, tests): rebuilds the
+    /// spring and bending arrays and relocates the tracked points, as the step does after an
+    /// adaptation pass.
+    pub fn after_mesh_edit(&mut self) {
+        self.cloth.refresh();
+        self.relocate_tracked();
+    }
+
     fn relocate_tracked(&mut self) {
         self.locator = RestLocator::new(&self.cloth.mesh);
         for p in &mut self.tracked {

@@ -4,6 +4,7 @@ mod browser;
 mod cli;
 mod common;
 mod compare;
+mod consistency;
 mod golden;
 mod integrators;
 mod physics_laws;
