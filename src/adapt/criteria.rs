@@ -1,12 +1,13 @@
-//! The adaptivity criteria of MODEL.md §7, shared by every adaptive strategy.
+//! The adaptivity criteria, shared by every adaptive strategy: the source's (MODEL.md §7) or the
+//! sizing field (`super::sizing`), chosen by `adaptivity.criteria`.
 //!
-//! [`select`] evaluates every edge, in key order, against compression, collision and curvature
+//! [`select_source`] evaluates every edge, in key order, against compression, collision and curvature
 //! (an edge selected by one criterion is not tested by the next), applies the size limits and the
 //! simplification hysteresis, then the smoothing rule (4.19). Strategies decide what to do with
 //! the selection; what they know per edge (age since refinement, a depth-dependent curvature
 //! limit) reaches the criteria through [`EdgeInfo`].
 
-use super::AdaptParams;
+use super::{AdaptParams, Criteria};
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::{Real, Vec3};
@@ -23,6 +24,12 @@ pub enum RefineReason {
     Curvature,
     /// Neighbour of a refined edge much shorter than it (4.19).
     Smoothing,
+    /// Sizing field: the velocity difference across the edge.
+    Velocity,
+    /// Sizing field: the obstacle's curvature under the edge's ends.
+    Proximity,
+    /// Sizing field: longer than `l_max`, the field's ceiling.
+    Size,
 }
 
 /// The criteria's verdict on every edge.
@@ -116,8 +123,22 @@ fn mean_adjacent_area(mesh: &Mesh, e: EdgeKey) -> Real {
     sum / n
 }
 
-/// Evaluates the criteria on every edge (MODEL.md §7).
+/// Evaluates the scene's criteria on every edge: the source's (MODEL.md §7, [`select_source`])
+/// or the sizing field ([`super::sizing::select_by_size`]), as `spec.criteria` says.
 pub fn select(
+    cloth: &Cloth,
+    obstacles: &Obstacles,
+    spec: &AdaptParams,
+    info: &dyn EdgeInfo,
+) -> Selection {
+    match spec.criteria {
+        Criteria::Source => select_source(cloth, obstacles, spec, info),
+        Criteria::Sizing => super::sizing::select_by_size(cloth, obstacles, spec, info),
+    }
+}
+
+/// Evaluates the source's criteria on every edge (MODEL.md §7).
+pub fn select_source(
     cloth: &Cloth,
     obstacles: &Obstacles,
     spec: &AdaptParams,
@@ -179,7 +200,7 @@ fn old_enough(age: Option<Real>, threshold: Real) -> bool {
 /// selected when `L_i / L_j < c2` (rest lengths, `L_j >= refine_min_length`); a neighbour of a
 /// simplify-selected edge is selected for simplification when its age reached 10 % of
 /// `t_simplify` and it is not selected for refinement. One pass; results stay in key order.
-fn smooth(
+pub(super) fn smooth(
     mesh: &Mesh,
     spec: &AdaptParams,
     info: &dyn EdgeInfo,

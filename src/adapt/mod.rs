@@ -11,11 +11,12 @@
 
 pub mod criteria;
 mod params;
+pub mod sizing;
 mod target;
 mod transfer;
 
 pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
-pub use params::AdaptParams;
+pub use params::{AdaptParams, Criteria};
 pub use target::{ClothTarget, EditTarget};
 pub use transfer::{
     apply_edit, apply_edit_with, restore_kinetic_energy, Transfer, TransferOptions,
@@ -69,6 +70,15 @@ pub struct AdaptReport {
 }
 
 impl AdaptReport {
+    /// Adds the report of a later round of the same pass.
+    pub fn merge(&mut self, other: &AdaptReport) {
+        self.events += other.events;
+        self.vertices_added += other.vertices_added;
+        self.vertices_removed += other.vertices_removed;
+        self.kinetic_energy_change += other.kinetic_energy_change;
+        self.momentum_change = self.momentum_change.max(other.momentum_change);
+    }
+
     /// Adds one applied edit to the report.
     pub fn add(&mut self, t: &Transfer) {
         self.events += 1;

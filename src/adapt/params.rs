@@ -6,6 +6,17 @@
 
 use crate::math::Real;
 
+/// Which criteria select the edges to refine and simplify.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Criteria {
+    /// The source's criteria (MODEL.md §7): compression, collision, area-scaled curvature.
+    #[default]
+    Source,
+    /// The sizing field (MODEL.md §10.1, [`super::sizing`]): a target rest length per edge from
+    /// curvature, velocity gradient, compression and obstacle curvature.
+    Sizing,
+}
+
 /// Every adaptivity parameter. Shared by every strategy that edits the mesh unless marked
 /// otherwise.
 #[derive(Clone, Debug, PartialEq)]
@@ -16,6 +27,19 @@ pub struct AdaptParams {
     /// Restore the kinetic energy an edit loses by the momentum-neutral correction of MODEL.md
     /// §8.4 rule 6 ([`super::restore_kinetic_energy`]). Default off.
     pub restore_energy: bool,
+    /// Which criteria select edges. Default [`Criteria::Source`].
+    pub criteria: Criteria,
+    /// Sizing field: tolerated normal change across an edge, for the curvature and obstacle terms
+    /// (rad). Default 0.25.
+    pub size_angle: Real,
+    /// Sizing field: tolerated velocity difference across an edge (m/s). Default 0.5.
+    pub size_velocity: Real,
+    /// Sizing field: tolerated compressive strain before buckling is anticipated
+    /// (dimensionless). Default 0.02.
+    pub size_compression: Real,
+    /// Sizing field: distance (m) within which an obstacle's curvature sizes the cloth, grown by
+    /// the distance the fastest vertex travels in one `interval`. Default 0.05.
+    pub size_proximity: Real,
     /// Compression criterion `c` (dimensionless): refine when `L / L_rest < c`. Default 0.70.
     pub compression_c: Real,
     /// Curvature: refine when the cosine between end normals is below this. Default 0.97.
@@ -38,6 +62,10 @@ pub struct AdaptParams {
     /// its faces and the obstacle normal have an absolute cosine at least this (flat contact).
     /// Default 0.97.
     pub flat_contact_cos: Real,
+    /// Rounds per adaptation pass: the strategy is called again while its last round added
+    /// vertices, at most this many times, so one pass can refine several levels (with the sizing
+    /// field, down to the target sizes). Default 1 (the source: one round).
+    pub rounds: u32,
     /// Simulated time between adaptation passes (s); 0 adapts after every step. Default 0.01.
     pub interval: Real,
     /// Strategy-specific (`remesh`, `bisect48`: the strategies using the area-scaled curvature
@@ -66,6 +94,11 @@ impl Default for AdaptParams {
         AdaptParams {
             restore_momentum: true,
             restore_energy: false,
+            criteria: Criteria::Source,
+            size_angle: 0.25,
+            size_velocity: 0.5,
+            size_compression: 0.02,
+            size_proximity: 0.05,
             compression_c: 0.70,
             cos_refine: 0.97,
             cos_simplify: 0.999995,
@@ -75,6 +108,7 @@ impl Default for AdaptParams {
             c2: 0.75,
             t_simplify: 0.1,
             flat_contact_cos: 0.97,
+            rounds: 1,
             interval: 0.01,
             curvature_exponent: 0.5,
             density_refine: 1.01,

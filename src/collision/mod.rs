@@ -333,14 +333,40 @@ impl Obstacles {
         best.map(|(_, hit)| hit)
     }
 
+    /// The closest obstacle surface point to `p` (m) among the obstacles whose surface is nearer
+    /// than `band` (m; inside counts as nearer), as [`Obstacles::closest_surface`] reports it;
+    /// `None` when every obstacle is at least `band` away. Obstacles whose bounding box, grown by
+    /// `band`, does not hold `p` are skipped without a query.
+    pub fn surface_near(&self, p: Vec3, band: Real) -> Option<SurfacePoint> {
+        self.nearest(p, |ob, q| {
+            if ob.overlaps(q, q, band) {
+                ob.project_near(q, band)
+            } else {
+                None
+            }
+        })
+    }
+
     /// The obstacle surface point closest to `p` (m), with the outward normal and the signed
     /// distance; among several obstacles, the one with the smallest signed distance (so a point
     /// inside an obstacle reports that obstacle). `None` only when there is no obstacle.
     pub fn closest_surface(&self, p: Vec3) -> Option<SurfacePoint> {
+        self.nearest(p, |ob, q| Some(ob.project(q)))
+    }
+
+    /// The projection with the smallest signed distance among those `project` gives, per
+    /// obstacle (ties to the lower index).
+    fn nearest(
+        &self,
+        p: Vec3,
+        project: impl Fn(&Solid, Vector) -> Option<shape::Projection>,
+    ) -> Option<SurfacePoint> {
         let q = to_glam(p);
         let mut best: Option<SurfacePoint> = None;
         for (k, ob) in self.obstacles.iter().enumerate() {
-            let proj = ob.project(q);
+            let Some(proj) = project(ob, q) else {
+                continue;
+            };
             if best.is_none_or(|b| proj.distance < b.distance) {
                 best = Some(SurfacePoint {
                     obstacle: k,

@@ -620,3 +620,32 @@ fn edge_hit_on_bunny_finds_every_segment_that_reaches_inside() {
         "{inside} reaching, {clear} clear"
     );
 }
+
+#[test]
+fn surface_near_answers_within_its_band_as_closest_surface_does() {
+    let obs = bunny();
+    let centroid = mesh_centroid(&obs);
+    for p in [
+        centroid,
+        Vec3::new(centroid.x, centroid.y, 0.7),
+        Vec3::new(0.0, 0.0, 0.1),
+        Vec3::new(0.1, 0.05, 0.3),
+        Vec3::new(-0.2, 0.1, 0.2),
+        Vec3::new(3.0, 3.0, 3.0),
+    ] {
+        let exact = obs.closest_surface(p).expect("some");
+        for band in [0.01, 0.05, 0.2, 1.0] {
+            match obs.surface_near(p, band) {
+                Some(s) => {
+                    assert!(exact.distance < band, "{p:?} band {band}: {exact:?}");
+                    assert!(
+                        close(s.distance, exact.distance, 1e-9),
+                        "{s:?} vs {exact:?}"
+                    );
+                    assert!(close((s.point - exact.point).norm(), 0.0, 1e-9));
+                }
+                None => assert!(exact.distance >= band, "{p:?} band {band}: {exact:?}"),
+            }
+        }
+    }
+}

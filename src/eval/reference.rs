@@ -15,7 +15,7 @@
 //! scene's frames.
 
 use super::metrics::{self, ErrorReport};
-use crate::scene::{AdaptivitySpec, ClothShape, LoadedScene, ObstacleShape, Scene};
+use crate::scene::{ClothShape, LoadedScene, ObstacleShape, Scene};
 use crate::sim::{self, RunOptions, RunStatus, RunSummary, SamplePoints, Simulation, Trajectory};
 use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
@@ -214,15 +214,19 @@ pub fn static_variant(
     l
 }
 
-/// The physics parameters of a scene as they enter the key: name, description, the adaptivity
-/// section and the metrics rate normalised away.
+/// The physics parameters of a scene as they enter the key: name, description and the metrics
+/// rate normalised away, and the adaptivity section left out (a reference is static, and new
+/// adaptivity keys must not invalidate cached references).
 pub fn physics_json(scene: &Scene) -> serde_json::Value {
     let mut s = scene.clone();
     s.name.clear();
     s.description.clear();
-    s.adaptivity = AdaptivitySpec::default();
     s.time.metrics_rate = 0.0;
-    serde_json::to_value(&s).expect("a scene serializes")
+    let mut value = serde_json::to_value(&s).expect("a scene serializes");
+    if let Some(fields) = value.as_object_mut() {
+        fields.remove("adaptivity");
+    }
+    value
 }
 
 /// The cache key of the reference of `base` under `settings` (16 hex digits).

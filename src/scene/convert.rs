@@ -4,11 +4,11 @@
 //! scene's folder.
 
 use super::spec::{
-    AdaptivitySpec, CollisionSpec, ForcesSpec, IntegratorSpec, MaterialSpec, ObstacleShape,
-    ObstacleSpec, SpringMode, StiffnessModel,
+    AdaptivitySpec, CollisionSpec, CriteriaSpec, ForcesSpec, IntegratorSpec, MaterialSpec,
+    ObstacleShape, ObstacleSpec, SpringMode, StiffnessModel,
 };
 use super::LoadedScene;
-use crate::adapt::AdaptParams;
+use crate::adapt::{self, AdaptParams};
 use crate::collision::{self, ContactParams};
 use crate::math::Vec3;
 use crate::physics::{self, Forces, IntegratorParams, Material};
@@ -134,6 +134,14 @@ impl From<&AdaptivitySpec> for AdaptParams {
         AdaptParams {
             restore_momentum: a.restore_momentum,
             restore_energy: a.restore_energy,
+            criteria: match a.criteria {
+                CriteriaSpec::Source => adapt::Criteria::Source,
+                CriteriaSpec::Sizing => adapt::Criteria::Sizing,
+            },
+            size_angle: a.size_angle,
+            size_velocity: a.size_velocity,
+            size_compression: a.size_compression,
+            size_proximity: a.size_proximity,
             compression_c: a.compression_c,
             cos_refine: a.cos_refine,
             cos_simplify: a.cos_simplify,
@@ -144,6 +152,7 @@ impl From<&AdaptivitySpec> for AdaptParams {
             t_simplify: a.t_simplify,
             flat_contact_cos: a.flat_contact_cos,
             interval: a.interval,
+            rounds: a.rounds,
             curvature_exponent: a.curvature_exponent,
             density_refine: a.density_refine,
             density_simplify: a.density_simplify,

@@ -378,6 +378,17 @@ pub struct ObstacleSpec {
     pub restitution: Real,
 }
 
+/// Which criteria select edges (`adaptivity.criteria`).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum CriteriaSpec {
+    /// The source's criteria (MODEL.md §7).
+    #[default]
+    Source,
+    /// The sizing field (MODEL.md §10.1).
+    Sizing,
+}
+
 /// `[adaptivity]`: the strategy and the criteria of MODEL.md §7 (names of the seed's tables).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
@@ -392,6 +403,19 @@ pub struct AdaptivitySpec {
     /// mean scaled; `adapt::restore_kinetic_energy`), in every strategy that edits the mesh.
     /// Default off.
     pub restore_energy: bool,
+    /// Which criteria select edges: `source` (MODEL.md §7, the default) or `sizing` (a target
+    /// rest length per edge, MODEL.md §10.1).
+    pub criteria: CriteriaSpec,
+    /// Sizing field: tolerated normal change across an edge (rad), for the curvature and obstacle
+    /// terms. Default 0.25.
+    pub size_angle: Real,
+    /// Sizing field: tolerated velocity difference across an edge (m/s). Default 0.5.
+    pub size_velocity: Real,
+    /// Sizing field: tolerated compressive strain before buckling is anticipated. Default 0.02.
+    pub size_compression: Real,
+    /// Sizing field: distance (m) within which an obstacle's curvature sizes the cloth (grown by
+    /// the distance the fastest vertex travels in one `interval`). Default 0.05.
+    pub size_proximity: Real,
     /// Compression criterion `c`: refine when `L / L_rest < c`. Default 0.70.
     pub compression_c: Real,
     /// Curvature: refine when the cosine between end normals is below this. Default 0.97.
@@ -438,6 +462,9 @@ pub struct AdaptivitySpec {
     /// measured (`studies/interval.toml`, docs/model-notes.md) to change the error little while
     /// cutting adaptation's share of a run several-fold.
     pub interval: Real,
+    /// Rounds per adaptation pass (1 to 16): the strategy is called again while its last round
+    /// added vertices, so one pass can refine several levels. Default 1 (the source's one round).
+    pub rounds: u32,
     /// Local remeshing: minimum angle the hole mesher keeps away from the hole border (degrees).
     /// Default 25.
     pub remesh_min_angle: Real,
@@ -449,6 +476,11 @@ impl Default for AdaptivitySpec {
             strategy: "static".into(),
             restore_momentum: true,
             restore_energy: false,
+            criteria: CriteriaSpec::Source,
+            size_angle: 0.25,
+            size_velocity: 0.5,
+            size_compression: 0.02,
+            size_proximity: 0.05,
             compression_c: 0.70,
             cos_refine: 0.97,
             cos_simplify: 0.999995,
@@ -465,6 +497,7 @@ impl Default for AdaptivitySpec {
             depth_factor: 0.95,
             force_completion: false,
             interval: 0.01,
+            rounds: 1,
             remesh_min_angle: 25.0,
         }
     }

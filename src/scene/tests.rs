@@ -246,3 +246,31 @@ fn the_resolved_scene_loads_back_to_the_same_scene_from_another_folder() {
         assert_eq!(back.scene, want, "{name}");
     }
 }
+
+#[test]
+fn sizing_keys_need_the_sizing_criteria_and_rounds_are_bounded() {
+    let e = load_text("", &["adaptivity.size_angle=0.1"]).unwrap_err();
+    assert!(e.to_string().contains("criteria = \"sizing\""), "{e}");
+    load_text(
+        "",
+        &[
+            "adaptivity.criteria=\"sizing\"",
+            "adaptivity.size_angle=0.1",
+        ],
+    )
+    .unwrap();
+    let e = load_text("", &["adaptivity.criteria=\"narain\""]).unwrap_err();
+    assert!(e.to_string().contains("adaptivity.criteria"), "{e}");
+    for bad in ["adaptivity.rounds=0", "adaptivity.rounds=17"] {
+        let e = load_text("", &[bad]).unwrap_err();
+        assert!(e.to_string().contains("1..=16"), "{bad}: {e}");
+    }
+    for bad in [
+        "adaptivity.size_velocity=0",
+        "adaptivity.size_compression=-1",
+        "adaptivity.size_proximity=nan",
+    ] {
+        let sizing = "adaptivity.criteria=\"sizing\"";
+        assert!(load_text("", &[sizing, bad]).is_err(), "{bad}");
+    }
+}

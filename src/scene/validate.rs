@@ -1,7 +1,7 @@
 //! Range checks of a parsed scene, reported with the file, the line of the key and what was
 //! expected.
 
-use super::{AdaptivitySpec, ClothShape, ObstacleShape, Scene, SceneError};
+use super::{AdaptivitySpec, ClothShape, CriteriaSpec, ObstacleShape, Scene, SceneError};
 use crate::math::Real;
 use std::path::Path;
 
@@ -333,6 +333,7 @@ pub(super) fn validate(
         crate::strategies::strategy_names(),
     )?;
     strategy_options(&c, a)?;
+    sizing_options(&c, a)?;
     c.open_unit("adaptivity.compression_c", a.compression_c)?;
     for (k, v) in [
         ("cos_refine", a.cos_refine),
@@ -352,6 +353,10 @@ pub(super) fn validate(
         return Err(c.fail("adaptivity.l_min", a.l_min, "expected l_min < l_max"));
     }
     c.non_negative("adaptivity.h_min", a.h_min)?;
+    c.positive("adaptivity.size_angle", a.size_angle)?;
+    c.positive("adaptivity.size_velocity", a.size_velocity)?;
+    c.positive("adaptivity.size_compression", a.size_compression)?;
+    c.non_negative("adaptivity.size_proximity", a.size_proximity)?;
     c.positive("adaptivity.c2", a.c2)?;
     c.non_negative("adaptivity.t_simplify", a.t_simplify)?;
     c.positive("adaptivity.density_refine", a.density_refine)?;
@@ -366,6 +371,13 @@ pub(super) fn validate(
     }
     c.non_negative("adaptivity.curvature_exponent", a.curvature_exponent)?;
     c.non_negative("adaptivity.interval", a.interval)?;
+    if !(1..=16).contains(&a.rounds) {
+        return Err(c.fail(
+            "adaptivity.rounds",
+            a.rounds,
+            "expected a number of rounds per pass in 1..=16",
+        ));
+    }
     if !(a.remesh_min_angle > 0.0 && a.remesh_min_angle <= 33.0) {
         return Err(c.fail(
             "adaptivity.remesh_min_angle",
@@ -435,6 +447,34 @@ fn strategy_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
                 users.join(", ")
             ),
         ));
+    }
+    Ok(())
+}
+
+/// Fails when a sizing-field key (`size_*`) holds a non-default value while the scene's criteria
+/// are the source's, which never read it.
+fn sizing_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
+    if a.criteria == CriteriaSpec::Sizing {
+        return Ok(());
+    }
+    let d = AdaptivitySpec::default();
+    let keys = [
+        ("size_angle", a.size_angle, d.size_angle),
+        ("size_velocity", a.size_velocity, d.size_velocity),
+        ("size_compression", a.size_compression, d.size_compression),
+        ("size_proximity", a.size_proximity, d.size_proximity),
+    ];
+    for (key, value, default) in keys {
+        if value != default {
+            return Err(c.fail(
+                &format!("adaptivity.{key}"),
+                value,
+                &format!(
+                    "a sizing-field key, read only with adaptivity.criteria = \"sizing\" \
+                     (remove it or set it to its default, {default})"
+                ),
+            ));
+        }
     }
     Ok(())
 }

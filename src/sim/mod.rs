@@ -256,13 +256,23 @@ impl Simulation {
                 time: self.t,
                 params: &self.adapt_params,
             };
-            self.strategy
-                .adapt(&mut self.cloth, &ctx)
-                .map_err(|e| StepError::Adapt {
-                    step: self.steps,
-                    t: self.t,
-                    reason: e.to_string(),
-                })?
+            let mut total = AdaptReport::default();
+            for _ in 0..self.adapt_params.rounds.max(1) {
+                let round =
+                    self.strategy
+                        .adapt(&mut self.cloth, &ctx)
+                        .map_err(|e| StepError::Adapt {
+                            step: self.steps,
+                            t: self.t,
+                            reason: e.to_string(),
+                        })?;
+                total.merge(&round);
+                if round.vertices_added == 0 {
+                    break;
+                }
+                self.cloth.refresh_state_len();
+            }
+            total
         } else {
             AdaptReport::default()
         };

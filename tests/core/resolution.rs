@@ -92,3 +92,35 @@ fn h_min_overrides_the_scenes_own_length_and_depth_limits() {
         loaded.scene.adaptivity.l_min
     );
 }
+
+#[test]
+fn more_rounds_per_pass_refine_further_in_one_pass() {
+    // The sizing field with a 0.1 m ceiling asks every edge of the 5x5 start (0.25 m) to be
+    // refined several levels; one round refines one level per pass, four rounds go further.
+    for info in STRATEGIES.iter().filter(|s| s.edits_mesh) {
+        let vertices_after_one_step = |rounds: u32| {
+            let strategy = format!("adaptivity.strategy=\"{}\"", info.name);
+            let rounds = format!("adaptivity.rounds={rounds}");
+            let loaded = scene(
+                "sphere",
+                &[
+                    &strategy,
+                    &rounds,
+                    "cloth.resolution=5",
+                    "adaptivity.criteria=\"sizing\"",
+                    "adaptivity.l_max=0.1",
+                    "adaptivity.h_min=0.02",
+                ],
+            );
+            let mut sim = adaptcloth::sim::Simulation::new(&loaded).unwrap();
+            sim.step().unwrap();
+            sim.cloth.mesh.vertex_count()
+        };
+        let (one, four) = (vertices_after_one_step(1), vertices_after_one_step(4));
+        assert!(
+            one > 25 && four > one,
+            "{}: {one} vertices after one round, {four} after four",
+            info.name
+        );
+    }
+}
