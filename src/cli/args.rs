@@ -198,8 +198,9 @@ pub struct DocsArgs {
 /// `adaptcloth study`.
 #[derive(clap::Args)]
 pub struct StudyArgs {
-    /// The study file (TOML; format in docs/studies.md).
-    pub file: PathBuf,
+    /// The study file (TOML; format in docs/studies.md). Without it, the embedded quick study
+    /// (studies/quick.toml): the four strategies head to head on the sphere in about a minute.
+    pub file: Option<PathBuf>,
     /// How the runs are executed.
     #[command(flatten)]
     pub execution: ExecutionArgs,

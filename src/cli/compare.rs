@@ -128,9 +128,21 @@ pub fn compare(args: CompareArgs) -> Result<(), CliError> {
     write_docs(args.docs.write_docs, &done, &command, notes)
 }
 
-/// `adaptcloth study FILE.toml`: a study file's runs on each of its scenes, one report per scene.
+/// The study `adaptcloth study` runs without a file.
+const QUICK_STUDY: &str = include_str!("../../studies/quick.toml");
+
+/// `adaptcloth study FILE.toml`: a study file's runs on each of its scenes, one report per scene;
+/// each scene's ranked table on stdout.
 pub fn study(args: StudyArgs) -> Result<(), CliError> {
-    let definition = study::load_study(&args.file)?;
+    let definition = match &args.file {
+        Some(file) => study::load_study(file)?,
+        None => study::parse_study(
+            QUICK_STUDY,
+            "<embedded studies/quick.toml>",
+            "quick",
+            Path::new("."),
+        )?,
+    };
     let notes = read_notes(&args.docs)?;
     let root = args
         .out
@@ -142,7 +154,10 @@ pub fn study(args: StudyArgs) -> Result<(), CliError> {
         return references(&definition, &plans, &execution);
     }
     let done = run_plans(&definition, plans, &execution)?;
-    let command = format!("adaptcloth study {}", args.file.display());
+    let command = match &args.file {
+        Some(file) => format!("adaptcloth study {}", file.display()),
+        None => "adaptcloth study".to_string(),
+    };
     write_docs(args.docs.write_docs, &done, &command, notes)
 }
 
@@ -226,10 +241,11 @@ fn run_plans(
         let comparison = study::compare(&loaded, &opts)?;
         crate::report::write_report(&out, &comparison)?;
         let (runs, secs) = (comparison.rows.len(), clock.elapsed().as_secs_f64());
-        let report = out.join("report.md");
-        eprintln!(
-            "{scene}: {runs} run(s) in {secs:.1} s; report: {}",
-            report.display()
+        eprintln!("{scene}: {runs} run(s) in {secs:.1} s");
+        println!(
+            "{}report: {}\n",
+            crate::report::ranking::ranking(&comparison),
+            out.join("report.html").display()
         );
         if interrupt.load(Ordering::SeqCst) {
             return Err(CliError::Interrupted(String::new()));

@@ -14,6 +14,7 @@ pub mod comparison_plots;
 pub mod html;
 pub mod pictures;
 pub mod plots;
+pub mod ranking;
 pub mod reading;
 pub mod render;
 pub mod results;

@@ -403,11 +403,11 @@ fn why_slow(r: &Row, statics: &[&Row]) -> String {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::study::table::tests::row;
 
-    fn run(series: &str, strategy: &str, resolution: usize, wall_s: f64, e: f64) -> Row {
+    pub(crate) fn run(series: &str, strategy: &str, resolution: usize, wall_s: f64, e: f64) -> Row {
         Row {
             series: series.into(),
             strategy: strategy.into(),

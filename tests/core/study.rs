@@ -116,3 +116,33 @@ fn a_study_sharded_under_gnu_parallel_merges_into_the_single_run() {
     );
     assert_eq!(table(&d.join("merged/sphere/comparison.csv")), single);
 }
+
+#[test]
+fn the_first_command_prints_the_ranked_table_of_the_four_strategies() {
+    // The README's main job: `adaptcloth study` with no file runs the embedded quick study.
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .args(["study", "--quiet", "--jobs", "2", "--out"])
+        .arg(dir.path().join("quick"))
+        .arg("--cache")
+        .arg(dir.path().join("cache"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("ranked by speed-up"), "{stdout}");
+    for strategy in ["static", "bisect48", "simnett", "remesh"] {
+        assert!(
+            stdout.contains(&format!("  {strategy} ")),
+            "{strategy}: {stdout}"
+        );
+    }
+    // Nine runs, numbered.
+    assert!(stdout.contains("\n   9  "), "{stdout}");
+    assert!(dir.path().join("quick/sphere/report.html").is_file());
+    assert!(stdout.contains("report.html"), "{stdout}");
+}
