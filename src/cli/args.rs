@@ -78,7 +78,10 @@ pub struct ReportArgs {
     #[command(flatten)]
     pub docs: DocsArgs,
     /// The command to name in results.md as the one that regenerates it.
-    #[arg(long, default_value = "scripts/results.sh")]
+    #[arg(
+        long,
+        default_value = "adaptcloth study studies/results.toml --jobs 2 --write-docs docs --docs-notes studies/results-notes.md"
+    )]
     pub docs_command: String,
 }
 
