@@ -17,6 +17,7 @@ mod generate;
 mod grid;
 mod locate;
 mod obj;
+mod point_tree;
 
 pub use check::{ConformityError, Rule};
 pub use edit::{Edit, EditError, EditRecord, NewVertex, Origin, VertexRef};
