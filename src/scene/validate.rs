@@ -153,11 +153,36 @@ pub(super) fn validate(
                     "expected 0 (same as resolution) or at least 2",
                 ));
             }
+            let ny = match cloth.resolution_v {
+                0 => cloth.resolution,
+                n => n,
+            };
+            let key = if ny > cloth.resolution {
+                "cloth.resolution_v"
+            } else {
+                "cloth.resolution"
+            };
+            let what = format!("a {} x {ny} grid", cloth.resolution);
+            let value = if key == "cloth.resolution_v" {
+                ny
+            } else {
+                cloth.resolution
+            };
+            vertex_count(&c, (key, value), cloth.resolution.checked_mul(ny), &what)?;
         }
         ClothShape::Disk => {
             if cloth.resolution < 1 {
                 return Err(c.fail("cloth.resolution", 0, "expected at least 1 ring"));
             }
+            // Ring k has 6k vertices: 1 + 3 r (r + 1) in all.
+            let r = cloth.resolution;
+            let count = r
+                .checked_add(1)
+                .and_then(|r1| r1.checked_mul(r))
+                .and_then(|n| n.checked_mul(3))
+                .and_then(|n| n.checked_add(1));
+            let what = format!("a disk of {r} rings");
+            vertex_count(&c, ("cloth.resolution", r), count, &what)?;
         }
         ClothShape::Obj => {
             if cloth.mesh.is_empty() {
@@ -384,6 +409,36 @@ pub(super) fn validate(
         }
     }
     Ok(())
+}
+
+/// Fails when a cloth of `count` vertices (`None`: past `usize`) is more than a run may allocate
+/// ([`crate::mesh::MAX_VERTICES`], about [`crate::mesh::BYTES_PER_VERTEX`] bytes each); `what`
+/// describes the cloth, `key` is the key to blame with its value.
+fn vertex_count(
+    c: &Checker,
+    (key, value): (&str, usize),
+    count: Option<usize>,
+    what: &str,
+) -> Result<(), SceneError> {
+    use crate::mesh::{BYTES_PER_VERTEX, MAX_VERTICES};
+    if count.is_some_and(|n| n <= MAX_VERTICES) {
+        return Ok(());
+    }
+    let need = match count {
+        Some(n) => format!(
+            "{n} vertices, about {:.3e} GB of memory",
+            n as Real * BYTES_PER_VERTEX as Real / 1e9
+        ),
+        None => "more vertices than this machine can count".to_string(),
+    };
+    Err(c.fail(
+        key,
+        value,
+        &format!(
+            "{what} has {need}; at most {MAX_VERTICES} vertices (about {} GB) are accepted",
+            MAX_VERTICES * BYTES_PER_VERTEX / 1_000_000_000
+        ),
+    ))
 }
 
 /// Fails when a strategy-specific `[adaptivity]` key holds a non-default value while the scene's

@@ -79,6 +79,29 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", dir.path().to_str().unwrap()],
             "cannot read scene file",
         ),
+        // Sizes that aborted allocating or wrapped (issue 15): refused with the memory they need.
+        (
+            vec!["run", "--set", "cloth.resolution=100000"],
+            "1.024e4 GB of memory; at most 4000000 vertices",
+        ),
+        (
+            vec!["run", "--set", "cloth.resolution=9223372036854775807"],
+            "more vertices than this machine can count",
+        ),
+        (
+            vec!["run", "--set", "cloth.resolution_v=100000000"],
+            "--set cloth.resolution_v=100000000: cloth.resolution_v",
+        ),
+        (
+            vec![
+                "run",
+                "--set",
+                "cloth.shape=\"disk\"",
+                "--set",
+                "cloth.resolution=9223372036854775807",
+            ],
+            "a disk of 9223372036854775807 rings has more vertices",
+        ),
     ];
     for (args, needle) in cases {
         let (code, err) = adaptcloth(&args);
