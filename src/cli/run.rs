@@ -16,8 +16,11 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
         duration: args.duration,
     };
     let loaded = scene::resolve(args.scene.as_deref(), &overrides)?;
-    let mut simulation =
-        Simulation::new(&loaded).map_err(|e| CliError::Input(format!("{}: {e}", loaded.source)))?;
+    let setup = |e| CliError::Input(format!("{}: {e}", loaded.source));
+    let mut simulation = Simulation::new(&loaded).map_err(setup)?;
+    if !args.force {
+        simulation.check_step_estimate().map_err(setup)?;
+    }
     let out_dir = args.out.unwrap_or_else(|| {
         let name = format!("{}-{}", loaded.scene.name, simulation.strategy_name());
         PathBuf::from("out").join(name)

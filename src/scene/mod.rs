@@ -12,6 +12,7 @@ mod spec;
 mod validate;
 
 pub use spec::*;
+pub use validate::MAX_STEPS;
 
 use crate::math::Real;
 use std::path::{Path, PathBuf};

@@ -31,6 +31,10 @@ pub enum SetupError {
     /// The integrator is unknown.
     #[error("{0}")]
     Integrator(#[from] crate::physics::UnknownIntegrator),
+    /// The run would take more steps than [`crate::scene::MAX_STEPS`] (the message says how many
+    /// and why).
+    #[error("{0}")]
+    TooManySteps(String),
 }
 
 /// Builds the cloth of a scene: the pattern mesh, its world placement (the pattern centre at

@@ -79,6 +79,15 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", dir.path().to_str().unwrap()],
             "cannot read scene file",
         ),
+        // A dynamic step that makes the run endless (issue 15): refused with the estimate.
+        (
+            vec!["run", "--set", "material.E=1e308"],
+            "this run would take about 9.600e303 steps of 6.250e-305 s",
+        ),
+        (
+            vec!["run", "--set", "time.dt_initial=1e-300"],
+            "time.dt_initial = 1e-300 s until the first contact",
+        ),
         // Sizes that aborted allocating or wrapped (issue 15): refused with the memory they need.
         (
             vec!["run", "--set", "cloth.resolution=100000"],
@@ -109,6 +118,35 @@ fn bad_input_exits_2_with_a_clear_message() {
         assert!(err.contains(needle), "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
+}
+
+/// `--force` runs what the step estimate refuses: here a run of 1e-300 s steps that stops at
+/// its first step (the cloth starts faster than `time.max_speed`).
+#[test]
+fn force_runs_a_run_refused_by_the_step_estimate() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let mut args = vec![
+        "run",
+        "--set",
+        "time.dt_initial=1e-300",
+        "--set",
+        "cloth.velocity=[0.0, 0.0, 1.0]",
+        "--set",
+        "time.max_speed=0.5",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--force runs it anyway"), "{err}");
+    assert!(!out.join("summary.json").exists());
+    args.push("--force");
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 1, "{err}");
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"status\": \"diverged\""), "{summary}");
 }
 
 #[test]
