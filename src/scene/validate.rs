@@ -28,6 +28,11 @@ const MAX_METRIC_ROWS: Real = 1e7;
 /// cloth and is estimated by the simulation (`sim::Simulation::check_step_estimate`).
 pub const MAX_STEPS: Real = 1e8;
 
+/// Most conjugate-gradient iterations per step (`integrator.cg_max_iterations`; default 200).
+const MAX_CG_ITERATIONS: usize = 10_000;
+/// Most relaxation passes per step (`integrator.relaxation_passes`; default 4).
+const MAX_RELAXATION_PASSES: usize = 1_000;
+
 /// Collects the first out-of-range value of a scene.
 struct Checker<'a> {
     text: &'a str,
@@ -286,11 +291,21 @@ pub(super) fn validate(
         ));
     }
     c.positive("integrator.cg_tolerance", scene.integrator.cg_tolerance)?;
-    if scene.integrator.cg_max_iterations == 0 {
+    // Loops inside one step are bounded, so a step (and Ctrl-C between steps) never waits on
+    // billions of passes.
+    let i = &scene.integrator;
+    if !(1..=MAX_CG_ITERATIONS).contains(&i.cg_max_iterations) {
         return Err(c.fail(
             "integrator.cg_max_iterations",
-            0.0,
-            "expected at least 1 iteration",
+            i.cg_max_iterations,
+            &format!("expected 1 to {MAX_CG_ITERATIONS} iterations per step"),
+        ));
+    }
+    if i.relaxation_passes > MAX_RELAXATION_PASSES {
+        return Err(c.fail(
+            "integrator.relaxation_passes",
+            i.relaxation_passes,
+            &format!("expected at most {MAX_RELAXATION_PASSES} passes per step"),
         ));
     }
     c.non_negative("collision.margin", scene.collision.margin)?;
@@ -392,6 +407,16 @@ pub(super) fn validate(
     }
     c.non_negative("adaptivity.curvature_exponent", a.curvature_exponent)?;
     c.non_negative("adaptivity.interval", a.interval)?;
+    if !(1..=crate::mesh::MAX_VERTICES).contains(&a.max_vertices) {
+        return Err(c.fail(
+            "adaptivity.max_vertices",
+            a.max_vertices,
+            &format!(
+                "expected a vertex count in [1, {}] (the most a run may allocate)",
+                crate::mesh::MAX_VERTICES
+            ),
+        ));
+    }
     if !(a.remesh_min_angle > 0.0 && a.remesh_min_angle <= 33.0) {
         return Err(c.fail(
             "adaptivity.remesh_min_angle",

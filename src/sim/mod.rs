@@ -308,6 +308,17 @@ impl Simulation {
             AdaptReport::default()
         };
         self.stage_times.adapt_s += secs(clock.elapsed());
+        let max_vertices = self.scene.adaptivity.max_vertices;
+        if adapt.vertices_added > 0 && self.cloth.mesh.vertex_count() > max_vertices {
+            return Err(StepError::Adapt {
+                step: self.steps,
+                t: self.t,
+                reason: format!(
+                    "the mesh has {} vertices, above adaptivity.max_vertices = {max_vertices}",
+                    self.cloth.mesh.vertex_count()
+                ),
+            });
+        }
         if adapt.events > 0 {
             let clock = Instant::now();
             self.cloth.refresh();

@@ -88,6 +88,19 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", "--set", "time.dt_initial=1e-300"],
             "time.dt_initial = 1e-300 s until the first contact",
         ),
+        // Caps on growth and on the loops inside one step (issue 15).
+        (
+            vec!["run", "--set", "adaptivity.max_vertices=0"],
+            "adaptivity.max_vertices",
+        ),
+        (
+            vec!["run", "--set", "integrator.relaxation_passes=1000000000000"],
+            "expected at most 1000 passes per step",
+        ),
+        (
+            vec!["run", "--set", "integrator.cg_max_iterations=1000000000000"],
+            "expected 1 to 10000 iterations per step",
+        ),
         // Sizes that aborted allocating or wrapped (issue 15): refused with the memory they need.
         (
             vec!["run", "--set", "cloth.resolution=100000"],

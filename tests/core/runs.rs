@@ -163,6 +163,37 @@ fn interrupt_stops_cleanly() {
     assert!(dir.path().join("frames/frame_00000.obj").is_file());
 }
 
+/// A mesh that adaptation grows past `adaptivity.max_vertices` stops the run with status
+/// `failed`, a message naming the cap and the key, and complete outputs (issue 15: `l_min = 1e-9`
+/// with a deep `max_depth` grew without bound).
+#[test]
+fn adaptation_past_max_vertices_fails_the_run() {
+    for strategy in ["remesh", "simnett", "bisect48"] {
+        let loaded = scene(
+            "sphere",
+            &[
+                "time.duration=0.2",
+                "cloth.center=[0.0, 0.0, 0.26]",
+                &format!("adaptivity.strategy=\"{strategy}\""),
+                "adaptivity.l_min=1e-9",
+                "adaptivity.max_vertices=30",
+            ],
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let (sim, summary) = run_into(&loaded, dir.path());
+        assert_eq!(summary.status, RunStatus::Failed, "{strategy}");
+        assert!(
+            summary
+                .message
+                .contains("above adaptivity.max_vertices = 30"),
+            "{strategy}: {}",
+            summary.message
+        );
+        assert!(sim.cloth.mesh.vertex_count() > 30);
+        assert!(dir.path().join("metrics.csv").is_file());
+    }
+}
+
 /// Every adaptive strategy on every source scene, started just above the obstacle so contact
 /// (and adaptation) begins at once: the run completes, every frame conforms (checked by the run
 /// driver), no vertex penetrates beyond the margin, total mass is kept, and the mesh refines.
