@@ -390,3 +390,38 @@ fn a_full_disk_fails_the_run_and_leaves_no_torn_file_looking_complete() {
     assert!(summary_of(&out).contains("\"status\": \"failed\""));
     assert!(!out.join("metrics.csv").exists());
 }
+
+/// SIGTERM and SIGHUP stop a run like Ctrl-C: status `interrupted` in the summary, exit 130.
+#[test]
+fn sigterm_and_sighup_stop_a_run_cleanly() {
+    for signal in ["-TERM", "-HUP"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("o");
+        // A run of minutes: the hanging scene over 10 s of simulated time.
+        let mut child = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+            .args(["run", "hanging", "--duration", "10", "--quiet", "--out"])
+            .arg(&out)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("binary runs");
+        let started = std::time::Instant::now();
+        while !out.join("metrics.csv.partial").exists() {
+            assert!(started.elapsed().as_secs() < 60, "the run did not start");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        let sent = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(130), "{signal}");
+        let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        assert!(
+            summary.contains("\"status\": \"interrupted\""),
+            "{signal}: {summary}"
+        );
+        assert!(out.join("metrics.csv").is_file(), "{signal}");
+    }
+}
