@@ -33,7 +33,7 @@ impl<T: Copy> BucketGrid<T> {
             }
         };
         let mut cell = Vec2::new(size(cell.x, ext.x), size(cell.y, ext.y));
-        let cells = |e: Real, c: Real| (e / c).max(0.0).min(1e9) as usize + 1;
+        let cells = |e: Real, c: Real| (e / c).clamp(0.0, 1e9) as usize + 1;
         let max_cells = MAX_CELLS_PER_ITEM * entries.len().max(1);
         let total = |c: Vec2| cells(ext.x, c.x).saturating_mul(cells(ext.y, c.y));
         while total(cell) > max_cells {

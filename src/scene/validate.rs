@@ -33,29 +33,46 @@ const MAX_CG_ITERATIONS: usize = 10_000;
 /// Most relaxation passes per step (`integrator.relaxation_passes`; default 4).
 const MAX_RELAXATION_PASSES: usize = 1_000;
 
+/// Where a key's value came from: the option that set it (`--set key=value`; for a list element
+/// `key[i]`, the option that set the list), else the file and the key's line (`FILE:LINE`), else
+/// the file. Returns (path or option, `:LINE` or empty).
+pub(super) fn locate(
+    text: &str,
+    source: &str,
+    options: &[(String, String)],
+    key: &str,
+) -> (String, String) {
+    let whole = key.split('[').next().unwrap_or(key);
+    match options.iter().rev().find(|(k, _)| k == key || k == whole) {
+        Some((_, option)) => (option.clone(), String::new()),
+        None => (
+            source.to_string(),
+            find_line(text, key)
+                .map(|l| format!(":{l}"))
+                .unwrap_or_default(),
+        ),
+    }
+}
+
 /// Collects the first out-of-range value of a scene.
-struct Checker<'a> {
-    text: &'a str,
-    source: &'a str,
+pub(super) struct Checker<'a> {
+    pub(super) text: &'a str,
+    pub(super) source: &'a str,
     /// Keys set on the command line, with the option that set them: their errors name the option,
     /// not a line of the file.
-    options: &'a [(String, String)],
+    pub(super) options: &'a [(String, String)],
 }
 
 impl Checker<'_> {
     /// An error for `key` (`section.key`, or `obstacles.N.key`) holding `value`: named by the
     /// option that set it, else by the file and the key's line.
-    fn fail(&self, key: &str, value: impl std::fmt::Display, expected: &str) -> SceneError {
-        let option = self.options.iter().rev().find(|(k, _)| k == key);
-        let (path, line) = match option {
-            Some((_, option)) => (option.clone(), String::new()),
-            None => (
-                self.source.to_string(),
-                find_line(self.text, key)
-                    .map(|l| format!(":{l}"))
-                    .unwrap_or_default(),
-            ),
-        };
+    pub(super) fn fail(
+        &self,
+        key: &str,
+        value: impl std::fmt::Display,
+        expected: &str,
+    ) -> SceneError {
+        let (path, line) = locate(self.text, self.source, self.options, key);
         SceneError::Invalid {
             path,
             line,
@@ -198,12 +215,11 @@ pub(super) fn validate(
                     "expected an OBJ file for shape = \"obj\"",
                 ));
             }
-            let path = base_dir.join(&cloth.mesh);
-            if !path.is_file() {
+            if let Some(why) = not_a_file(&base_dir.join(&cloth.mesh)) {
                 return Err(c.fail(
                     "cloth.mesh",
                     &cloth.mesh,
-                    &format!("expected an existing file ({} not found)", path.display()),
+                    &format!("expected an existing OBJ file ({why})"),
                 ));
             }
         }
@@ -352,15 +368,11 @@ pub(super) fn validate(
             } => {
                 c.positive(&key("scale"), *scale)?;
                 c.finite3(&key("translation"), *translation)?;
-                let path = base_dir.join(file);
-                if !path.is_file() {
+                if let Some(why) = not_a_file(&base_dir.join(file)) {
                     return Err(c.fail(
                         &key("file"),
                         file,
-                        &format!(
-                            "expected an existing OBJ file ({} not found)",
-                            path.display()
-                        ),
+                        &format!("expected an existing OBJ file ({why})"),
                     ));
                 }
             }
@@ -435,6 +447,21 @@ pub(super) fn validate(
         }
     }
     Ok(())
+}
+
+/// Why `path` cannot be read as a file, `None` when it is a regular file: not found (or not
+/// readable), a folder, or a device, pipe or socket (reading one could block or never end).
+fn not_a_file(path: &Path) -> Option<String> {
+    let shown = path.display();
+    match std::fs::metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Some(format!("{shown} not found")),
+        Err(e) => Some(format!("{shown}: {e}")),
+        Ok(m) if m.is_dir() => Some(format!("{shown} is a folder")),
+        Ok(m) if !m.is_file() => Some(format!(
+            "{shown} is not a regular file: a device, pipe or socket"
+        )),
+        Ok(_) => None,
+    }
 }
 
 /// Fails when a cloth of `count` vertices (`None`: past `usize`) is more than a run may allocate

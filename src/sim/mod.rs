@@ -130,11 +130,7 @@ impl Simulation {
             let rest = Vec2::new(p.rest[0], p.rest[1]);
             let location = locator
                 .locate(&cloth.mesh, rest)
-                .ok_or(SetupError::OffPattern {
-                    what: format!("tracked[{i}]"),
-                    u: rest.x,
-                    v: rest.y,
-                })?;
+                .ok_or_else(|| setup::off_pattern(loaded, &format!("tracked.{i}.rest"), p.rest))?;
             let name = if p.name.is_empty() {
                 format!("p{i}")
             } else {

@@ -425,3 +425,78 @@ fn sigterm_and_sighup_stop_a_run_cleanly() {
         assert!(out.join("metrics.csv").is_file(), "{signal}");
     }
 }
+
+/// Mistakes inside `[[obstacles]]` name the key and its own line (the parser gave the header's
+/// line and no key); points off the cloth and mesh paths that are folders or devices say so with
+/// their line (issue 15).
+#[test]
+fn errors_name_the_key_and_its_own_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = "[cloth]\nresolution = 5\n\n[[obstacles]]\nkind = \"sphere\"\n";
+    let cases = [
+        (
+            format!("{sphere}center = [0.0, 0.0, 0.0]\nradius = \"big\"\n"),
+            ":7: obstacles.0.radius = \"big\": invalid type: string \"big\", expected f64",
+        ),
+        (
+            format!("{sphere}center = [0.0, 0.0, 0.0]\nradius = 1.0\nfoo = 2\n"),
+            ":8: obstacles.0.foo = 2: no such key for this kind; valid keys: center, friction",
+        ),
+        (
+            format!("{sphere}center = [0.0, 0.0]\nradius = 1.0\n"),
+            ":6: obstacles.0.center = [0.0, 0.0]: invalid length 2",
+        ),
+        (
+            "[[obstacles]]\nkind = \"ground\"\n[[obstacles]]\nkind = \"blob\"\n".to_string(),
+            ":4: obstacles.1.kind = \"blob\": expected one of: \"ground\", \"sphere\"",
+        ),
+        (
+            "[[obstacles]]\nkind = \"mesh\"\nfile = \"/dev/null\"\n".to_string(),
+            ":3: obstacles.0.file = /dev/null: expected an existing OBJ file (/dev/null is not a \
+             regular file",
+        ),
+        (
+            "[[obstacles]]\nkind = \"mesh\"\nfile = \"/tmp\"\n".to_string(),
+            ":3: obstacles.0.file = /tmp: expected an existing OBJ file (/tmp is a folder)",
+        ),
+        (
+            "[cloth]\nshape = \"obj\"\nmesh = \"/tmp\"\n".to_string(),
+            ":3: cloth.mesh = /tmp: expected an existing OBJ file (/tmp is a folder)",
+        ),
+        (
+            "[cloth]\nresolution = 5\npinned = [[0.0, 0.0], [5.0, 5.0]]\n".to_string(),
+            ":3: cloth.pinned[1] = [5, 5]: expected a rest point on the cloth pattern",
+        ),
+        (
+            "[cloth]\nresolution = 5\n\n[[tracked]]\nname = \"far\"\nrest = [9.0, 9.0]\n"
+                .to_string(),
+            ":6: tracked.0.rest = [9, 9]: expected a rest point on the cloth pattern",
+        ),
+    ];
+    for (k, (text, needle)) in cases.iter().enumerate() {
+        let file = dir.path().join(format!("s{k}.toml"));
+        std::fs::write(&file, text).unwrap();
+        let (code, err) = adaptcloth(&["run", file.to_str().unwrap()]);
+        assert_eq!(code, 2, "{text}: {err}");
+        let expected = format!("{}{needle}", file.display());
+        assert!(
+            err.contains(&expected),
+            "{text}\nexpected {expected}\ngot {err}"
+        );
+    }
+    // The same from the command line names the option.
+    for (args, needle) in [
+        (
+            ["run", "--set", "obstacles.0.radius=\"big\""],
+            "--set obstacles.0.radius=\"big\": obstacles.0.radius = \"big\": invalid type",
+        ),
+        (
+            ["run", "--set", "cloth.pinned=[[5.0, 5.0]]"],
+            "--set cloth.pinned=[[5.0, 5.0]]: cloth.pinned[0] = [5, 5]: expected a rest point",
+        ),
+    ] {
+        let (code, err) = adaptcloth(&args);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
