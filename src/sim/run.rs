@@ -107,7 +107,8 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
     if let Some(text) = &opts.resolved_scene {
         write_atomic(&opts.out_dir.join("scene.resolved.toml"), text.as_bytes())?;
     }
-    let mut metrics = Some(MetricsWriter::create(&opts.out_dir, sim.tracked.len())?);
+    let names: Vec<String> = sim.tracked.iter().map(|p| p.name.clone()).collect();
+    let mut metrics = Some(MetricsWriter::create(&opts.out_dir, &names)?);
     let metrics_path = opts.out_dir.join("metrics.csv.partial");
     let bar = match &opts.bar {
         Some(bar) => {

@@ -67,9 +67,10 @@ fn metrics_have_the_required_columns() {
         "linear_momentum",
         "kinetic_energy",
         "max_penetration",
-        "p0_x",
-        "p0_y",
-        "p0_z",
+        // The tracked point by its name in the scene (`name = "P"`).
+        "P_x",
+        "P_y",
+        "P_z",
     ] {
         assert!(header.iter().any(|h| h == col), "missing column {col}");
     }
@@ -81,7 +82,7 @@ fn metrics_have_the_required_columns() {
     let last = rows.last().unwrap();
     assert_eq!(last[0] as u64, summary.steps);
     // The tracked corner P = (1, 1) starts at the world corner (0.5, 0.5, 0.3).
-    let px = header.iter().position(|h| h == "p0_x").unwrap();
+    let px = header.iter().position(|h| h == "P_x").unwrap();
     assert!((rows[0][px] - 0.5).abs() < 1e-12);
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
