@@ -9,5 +9,6 @@ mod integrators;
 mod physics_laws;
 mod resolution;
 mod runs;
+mod scene_fuzz;
 mod study;
 mod transfer;
