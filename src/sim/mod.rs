@@ -162,6 +162,12 @@ impl Simulation {
         })
     }
 
+    /// Lets a long step end early once `flag` is set (the run driver passes its interrupt flag,
+    /// so Ctrl-C or SIGTERM is answered within a step's inner loop, not after it).
+    pub fn set_interrupt(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
+        self.integrator.set_interrupt(flag);
+    }
+
     /// The strategy's name.
     pub fn strategy_name(&self) -> &'static str {
         self.strategy.name()

@@ -103,6 +103,9 @@ pub struct RunSummary {
 /// keeps its `.partial` name. Errors preparing the folder or writing the summary are returned.
 pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummary> {
     let started = Instant::now();
+    if let Some(flag) = &opts.interrupt {
+        sim.set_interrupt(flag.clone());
+    }
     clear_previous_run(&opts.out_dir)?;
     if let Some(text) = &opts.resolved_scene {
         write_atomic(&opts.out_dir.join("scene.resolved.toml"), text.as_bytes())?;
