@@ -262,6 +262,10 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Run even when the run is estimated at more than 1e8 steps (the dynamic step at the start
+    /// against the duration); without it such a run exits 2 with the estimate.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `adaptcloth render`.

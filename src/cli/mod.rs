@@ -96,8 +96,10 @@ pub fn execute(command: Command) -> Result<(), CliError> {
     }
 }
 
-/// The process's one Ctrl-C flag: the first press asks runs to stop cleanly, a second ends the
-/// process at once (exit 130).
+/// The process's one interrupt flag, set by Ctrl-C (SIGINT), SIGTERM and SIGHUP alike (the
+/// `ctrlc` crate's `termination` feature): the first signal asks runs to stop cleanly (status
+/// `interrupted`, summary written, exit 130 whichever signal it was), a second ends the process at
+/// once (exit 130).
 pub fn interrupt_flag() -> Arc<AtomicBool> {
     static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
     FLAG.get_or_init(|| {

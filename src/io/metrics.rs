@@ -52,6 +52,18 @@ pub struct MetricsRow {
     pub tracked: Vec<Vec3>,
 }
 
+/// The column stem of tracked point `k` named `name`: the name made CSV- and file-safe
+/// ([`super::file_safe`]: `free corner` -> `free_corner`), or `p<k>` when that is empty or already
+/// in `used`.
+fn tracked_column(name: &str, k: usize, used: &[String]) -> String {
+    let safe = super::file_safe(name);
+    if safe.is_empty() || used.contains(&safe) {
+        format!("p{k}")
+    } else {
+        safe
+    }
+}
+
 /// Streams rows to `metrics.csv.partial`; [`MetricsWriter::finish`] renames it to `metrics.csv`.
 pub struct MetricsWriter {
     out: BufWriter<File>,
@@ -60,9 +72,9 @@ pub struct MetricsWriter {
 }
 
 impl MetricsWriter {
-    /// Creates the table with its header; `tracked` is the number of tracked points (columns
-    /// `p<k>_x,p<k>_y,p<k>_z`).
-    pub fn create(out_dir: &Path, tracked: usize) -> std::io::Result<MetricsWriter> {
+    /// Creates the table with its header; `tracked` names the tracked points, whose columns are
+    /// `NAME_x,NAME_y,NAME_z` ([`tracked_column`]).
+    pub fn create(out_dir: &Path, tracked: &[String]) -> std::io::Result<MetricsWriter> {
         let done = out_dir.join("metrics.csv");
         let partial = out_dir.join("metrics.csv.partial");
         let _ = std::fs::remove_file(&done);
@@ -73,8 +85,11 @@ impl MetricsWriter {
              kinetic_energy,max_penetration,contacts,adapt_events,adapt_energy_change,gravity_energy,\
              stretch_energy,bending_energy,total_energy,cg_iterations"
         )?;
-        for k in 0..tracked {
-            write!(out, ",p{k}_x,p{k}_y,p{k}_z")?;
+        let mut used = Vec::new();
+        for (k, name) in tracked.iter().enumerate() {
+            let column = tracked_column(name, k, &used);
+            write!(out, ",{column}_x,{column}_y,{column}_z")?;
+            used.push(column);
         }
         writeln!(out)?;
         Ok(MetricsWriter { out, partial, done })
@@ -118,10 +133,36 @@ impl MetricsWriter {
         self.out.flush()
     }
 
-    /// Flushes and renames the table to `metrics.csv`.
+    /// Flushes and renames the table to `metrics.csv`. A table whose write failed is dropped
+    /// instead and keeps its `.partial` name.
     pub fn finish(mut self) -> std::io::Result<()> {
         self.out.flush()?;
         self.out.get_ref().sync_all()?;
         std::fs::rename(&self.partial, &self.done)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Tracked points' columns carry their scene names (issue 15), made CSV-safe and unique.
+    #[test]
+    fn tracked_columns_are_named_after_the_points() {
+        let dir = tempfile::tempdir().unwrap();
+        let names = ["P", "free corner", "P", "", "a,b"].map(String::from);
+        MetricsWriter::create(dir.path(), &names)
+            .unwrap()
+            .finish()
+            .unwrap();
+        let text = std::fs::read_to_string(dir.path().join("metrics.csv")).unwrap();
+        let header = text.lines().next().unwrap();
+        assert!(
+            header.ends_with(
+                ",cg_iterations,P_x,P_y,P_z,free_corner_x,free_corner_y,free_corner_z,\
+                 p2_x,p2_y,p2_z,p3_x,p3_y,p3_z,a_b_x,a_b_y,a_b_z"
+            ),
+            "{header}"
+        );
     }
 }

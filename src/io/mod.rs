@@ -10,22 +10,35 @@ mod metrics;
 pub mod obj;
 
 pub use metrics::{MetricsRow, MetricsWriter};
-pub use obj::{frame_path, read_frame_time, read_obj, write_frame, ObjError, ObjFile};
+pub use obj::{
+    frame_path, is_frame_name, read_frame_time, read_obj, write_frame, ObjError, ObjFile,
+};
 
 use std::io::Write;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
-/// Writes `bytes` to `path` through a temporary file in the same folder and a rename.
+/// Writes `bytes` to `path` through a temporary file in the same folder ([`temp_path`]) and a
+/// rename. On failure (a full disk, a folder in the way) the temporary file is removed and `path`
+/// is left as it was: never a partly written file under the final name.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let tmp = temp_path(path);
+    let written = std::fs::File::create(&tmp).and_then(|mut f| {
+        f.write_all(bytes)?;
+        f.sync_all()
+    });
+    let result = written.and_then(|()| std::fs::rename(&tmp, path));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result
+}
+
+/// The temporary name [`write_atomic`] writes `path` under: `path` with `.tmp` appended. A
+/// process killed in the middle of a write leaves it behind; runs remove their own.
+pub fn temp_path(path: &Path) -> PathBuf {
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".tmp");
-    let tmp = std::path::PathBuf::from(tmp);
-    {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(bytes)?;
-        f.sync_all()?;
-    }
-    std::fs::rename(&tmp, path)
+    PathBuf::from(tmp)
 }
 
 /// `name` made safe as one file-name component: characters other than ASCII letters, digits,

@@ -235,6 +235,14 @@ pub fn frame_path(out_dir: &Path, index: usize) -> PathBuf {
     out_dir.join("frames").join(format!("frame_{index:05}.obj"))
 }
 
+/// True when `name` is a frame file name [`frame_path`] makes: `frame_`, five or more digits,
+/// `.obj`. Runs clear only these from a reused frames folder.
+pub fn is_frame_name(name: &str) -> bool {
+    name.strip_prefix("frame_")
+        .and_then(|r| r.strip_suffix(".obj"))
+        .is_some_and(|d| d.len() >= 5 && d.bytes().all(|b| b.is_ascii_digit()))
+}
+
 /// Writes one frame atomically: the time comment, `v` world positions (m), `vt` rest coordinates
 /// (m), `f v/vt` triangles of 0-based indices (written 1-based; the same index for `v` and `vt`).
 pub fn write_frame(

@@ -2,10 +2,10 @@
 //!
 //! [`Mesh::check`] runs after every frame of a run and after every operation of the property
 //! tests, so it is near-linear: the structural rules use the incremental edge map and the
-//! per-vertex face lists, the only geometric search (T-junctions) uses a uniform grid over rest
+//! per-vertex face lists, the only geometric search (T-junctions) uses a k-d tree over rest
 //! space. Cheap structural rules run first; the first broken rule is reported.
-use super::grid::BucketGrid;
-use super::{Mesh, VertexId};
+use super::point_tree::PointTree;
+use super::{FaceId, Mesh, VertexId};
 use crate::math::{Real, Vec2};
 use petgraph::unionfind::UnionFind;
 
@@ -79,14 +79,25 @@ pub(crate) fn is_positive_triangle(a: Vec2, b: Vec2, c: Vec2) -> bool {
 /// Checks that the wedges `x -> y` of the faces around one vertex (each face rotated so the vertex
 /// comes first) form a single fan: one cycle (interior vertex) or one open chain (border vertex).
 /// Assumes at most two faces per edge and consistent orientation; says why not otherwise.
-pub(crate) fn single_fan<K: Copy + Eq>(wedges: &[(K, K)]) -> Result<(), String> {
+/// O(n log n) in the number of wedges (a vertex of a 100000-face fan is checked at once).
+pub(crate) fn single_fan<K: Copy + Ord>(wedges: &[(K, K)]) -> Result<(), String> {
     let n = wedges.len();
     if n == 0 {
         return Err("no faces".into());
     }
+    // Wedge indices sorted by their first neighbour, and the sorted second neighbours.
+    let mut by_first: Vec<usize> = (0..n).collect();
+    by_first.sort_by_key(|&i| (wedges[i].0, i));
+    let mut ends: Vec<K> = wedges.iter().map(|w| w.1).collect();
+    ends.sort_unstable();
+    // The first wedge (smallest index) starting at `k`.
+    let starting_at = |k: K| {
+        let p = by_first.partition_point(|&i| wedges[i].0 < k);
+        by_first.get(p).copied().filter(|&i| wedges[i].0 == k)
+    };
     // A chain start: a wedge whose first neighbour ends no wedge.
     let starts: Vec<usize> = (0..n)
-        .filter(|&i| !wedges.iter().any(|w| w.1 == wedges[i].0))
+        .filter(|&i| ends.binary_search(&wedges[i].0).is_err())
         .collect();
     if starts.len() > 1 {
         return Err(format!("{} separate fans of faces", starts.len()));
@@ -95,7 +106,7 @@ pub(crate) fn single_fan<K: Copy + Eq>(wedges: &[(K, K)]) -> Result<(), String> 
     let mut visited = 1;
     let mut cur = wedges[first].1;
     while visited < n {
-        match wedges.iter().position(|w| w.0 == cur) {
+        match starting_at(cur) {
             Some(i) if i != first => {
                 visited += 1;
                 cur = wedges[i].1;
@@ -150,27 +161,27 @@ impl Mesh {
                 );
             }
         }
-        for f in self.faces() {
-            let mut s = self.face(f);
-            s.sort_unstable();
-            for &g in self.vertex_faces(s[0]) {
-                if g >= f {
-                    break;
-                }
-                let mut t = self.face(g);
-                t.sort_unstable();
-                if s == t {
-                    return broken(
-                        Rule::DuplicateFace,
-                        format!(
-                            "faces {} and {} both have vertices {:?}",
-                            g.0,
-                            f.0,
-                            [s[0].0, s[1].0, s[2].0]
-                        ),
-                    );
-                }
-            }
+        // Duplicate faces: the sorted vertex triples, sorted, side by side (O(F log F)).
+        let mut sorted: Vec<([VertexId; 3], FaceId)> = self
+            .faces()
+            .map(|f| {
+                let mut s = self.face(f);
+                s.sort_unstable();
+                (s, f)
+            })
+            .collect();
+        sorted.sort_unstable();
+        if let Some(w) = sorted.windows(2).find(|w| w[0].0 == w[1].0) {
+            let ((s, g), (_, f)) = (w[0], w[1]);
+            return broken(
+                Rule::DuplicateFace,
+                format!(
+                    "faces {} and {} both have vertices {:?}",
+                    g.0,
+                    f.0,
+                    [s[0].0, s[1].0, s[2].0]
+                ),
+            );
         }
         Ok(())
     }
@@ -283,27 +294,22 @@ impl Mesh {
         Ok(())
     }
 
-    /// No live vertex strictly inside an edge: vertices are bucketed in a uniform grid of cell
-    /// size about the mean edge length, and each edge tests the vertices of the cells its
-    /// bounding box overlaps.
+    /// No live vertex strictly inside an edge: the live vertices go in a k-d tree
+    /// ([`PointTree`]) and each edge visits only the vertices near its segment, so the rule costs
+    /// about O(E log V) whatever the shape of the triangles.
     fn check_t_junctions(&self) -> Result<(), ConformityError> {
-        let grid = match vertex_grid(self) {
-            Some(g) => g,
-            None => return Ok(()),
-        };
+        let tree = PointTree::new(self.vertices().map(|v| (self.rest(v), v)).collect());
+        let mut stack = Vec::new();
         for (key, _) in self.edges() {
             let (a, b) = (self.rest(key.0), self.rest(key.1));
             let d = b - a;
             let l2 = d.norm_squared();
             let tol = ON_EDGE_REL_TOL * l2.sqrt();
-            let lo = Vec2::new(a.x.min(b.x) - tol, a.y.min(b.y) - tol);
-            let hi = Vec2::new(a.x.max(b.x) + tol, a.y.max(b.y) + tol);
-            let mut hit = None;
-            grid.for_each_in(lo, hi, |w| {
-                if hit.is_some() || w == key.0 || w == key.1 {
+            let mut hit: Option<(VertexId, Real)> = None;
+            tree.for_each_near_segment((a, b), tol, &mut stack, |p, w| {
+                if w == key.0 || w == key.1 || hit.is_some_and(|h| h.0 < w) {
                     return;
                 }
-                let p = self.rest(w);
                 let t = (p - a).dot(&d) / l2;
                 if t <= ON_EDGE_REL_TOL || t >= 1.0 - ON_EDGE_REL_TOL {
                     return;
@@ -329,33 +335,6 @@ impl Mesh {
     }
 }
 
-/// Live vertices bucketed by rest position, cells about the mean edge length but never more than
-/// a few cells per vertex.
-fn vertex_grid(mesh: &Mesh) -> Option<BucketGrid<VertexId>> {
-    let mut lo = Vec2::repeat(Real::INFINITY);
-    let mut hi = Vec2::repeat(Real::NEG_INFINITY);
-    let entries: Vec<(Vec2, Vec2, VertexId)> = mesh
-        .vertices()
-        .map(|v| {
-            let p = mesh.rest(v);
-            lo = lo.inf(&p);
-            hi = hi.sup(&p);
-            (p, p, v)
-        })
-        .collect();
-    if entries.is_empty() || !(lo.iter().chain(hi.iter()).all(|x| x.is_finite())) {
-        return None;
-    }
-    let mean_edge = mesh
-        .edges()
-        .map(|(k, _)| mesh.rest_length(k.0, k.1))
-        .sum::<Real>()
-        / mesh.edge_count().max(1) as Real;
-    let ext = hi - lo;
-    let min_cell = (ext.x * ext.y / (4.0 * entries.len() as Real)).sqrt();
-    Some(BucketGrid::new(lo, hi, mean_edge.max(min_cell), &entries))
-}
-
 /// Used by the tests of the mesh module to build broken meshes.
 #[cfg(test)]
 pub(crate) fn broken_mesh(rest: &[[Real; 2]], faces: &[[u32; 3]]) -> Mesh {
@@ -373,7 +352,7 @@ pub(crate) fn broken_mesh(rest: &[[Real; 2]], faces: &[[u32; 3]]) -> Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::{disk, union_jack, FaceId};
+    use crate::mesh::{disk, union_jack};
 
     fn rule_of(m: &Mesh) -> Rule {
         m.check().expect_err("mesh should be rejected").rule
@@ -512,5 +491,33 @@ mod tests {
         }
         // Generous bound for unoptimised test builds; release is a few ms per check.
         assert!(t.elapsed().as_secs_f64() < 5.0);
+    }
+
+    /// A long thin grid (5 x 100000 vertices: edges 0.25 m across, 1e-5 m along) was checked in
+    /// minutes by the old uniform-grid search (issue 15): every edge visited a whole column.
+    #[test]
+    fn anisotropic_grid_checks_quickly() {
+        let m = union_jack(5, 100_000, 1.0, 1.0);
+        let t = std::time::Instant::now();
+        m.check().unwrap();
+        // Generous bound for unoptimised test builds; release takes well under a second.
+        assert!(t.elapsed().as_secs_f64() < 20.0, "{:?}", t.elapsed());
+    }
+
+    /// A vertex shared by many faces (a fan of 20000 triangles) is checked without the quadratic
+    /// scans of its wedges and faces.
+    #[test]
+    fn a_vertex_of_high_valence_checks_quickly() {
+        let n = 20_000;
+        let mut rest = vec![Vec2::new(0.0, 0.0)];
+        for k in 0..=n {
+            let a = std::f64::consts::PI * k as Real / n as Real;
+            rest.push(Vec2::new(a.cos(), a.sin()));
+        }
+        let faces: Vec<[usize; 3]> = (0..n).map(|k| [0, k + 1, k + 2]).collect();
+        let t = std::time::Instant::now();
+        let m = Mesh::from_faces(rest, &faces).unwrap();
+        assert_eq!(m.face_count(), n);
+        assert!(t.elapsed().as_secs_f64() < 20.0, "{:?}", t.elapsed());
     }
 }

@@ -1,17 +1,17 @@
-//! A uniform bucket grid over rest space (compressed rows), shared by the conformity checker
-//! (vertices, T-junction search) and the rest-point locator (face bounding boxes). Built in
-//! O(items + cells); items are stored in insertion order within each cell, so queries are
-//! deterministic.
+//! A bucket grid over rest space (compressed rows) for the rest-point locator (face bounding
+//! boxes). Cells may be longer along one axis than the other, so long thin faces (an N x 100000
+//! grid) stay in a few cells each. Built in O(items + cells); items are stored in insertion order
+//! within each cell, so queries are deterministic.
 use crate::math::{Real, Vec2};
 
-/// Largest number of cells along one axis.
-const MAX_CELLS_PER_AXIS: usize = 1 << 12;
+/// Most cells per item (and at least this many cells are allowed in all).
+const MAX_CELLS_PER_ITEM: usize = 4;
 
 /// Items bucketed by the cells their rest bounding boxes overlap.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct BucketGrid<T> {
     origin: Vec2,
-    inv_cell: Real,
+    inv_cell: Vec2,
     nx: usize,
     ny: usize,
     start: Vec<u32>,
@@ -19,21 +19,30 @@ pub(crate) struct BucketGrid<T> {
 }
 
 impl<T: Copy> BucketGrid<T> {
-    /// A grid over the box `[lo, hi]` (m) with square cells of about `cell` (m), holding each
-    /// entry `(box_lo, box_hi, item)` in every cell its box overlaps. Boxes outside `[lo, hi]` are
-    /// clamped to the border cells.
-    pub(crate) fn new(lo: Vec2, hi: Vec2, cell: Real, entries: &[(Vec2, Vec2, T)]) -> Self {
+    /// A grid over the box `[lo, hi]` (m) with cells of about `cell.x` by `cell.y` (m), holding
+    /// each entry `(box_lo, box_hi, item)` in every cell its box overlaps. Cells grow (keeping
+    /// their aspect) until there are at most `MAX_CELLS_PER_ITEM` per entry. Boxes outside
+    /// `[lo, hi]` are clamped to the border cells.
+    pub(crate) fn new(lo: Vec2, hi: Vec2, cell: Vec2, entries: &[(Vec2, Vec2, T)]) -> Self {
         let ext = hi - lo;
-        let cell = if cell.is_finite() && cell > 0.0 {
-            cell.max(ext.max() / MAX_CELLS_PER_AXIS as Real)
-        } else {
-            ext.max().max(1.0)
+        let size = |c: Real, e: Real| {
+            if c.is_finite() && c > 0.0 {
+                c
+            } else {
+                e.max(1.0)
+            }
         };
-        let cells = |e: Real| ((e / cell).max(0.0) as usize + 1).min(MAX_CELLS_PER_AXIS);
-        let (nx, ny) = (cells(ext.x), cells(ext.y));
+        let mut cell = Vec2::new(size(cell.x, ext.x), size(cell.y, ext.y));
+        let cells = |e: Real, c: Real| (e / c).clamp(0.0, 1e9) as usize + 1;
+        let max_cells = MAX_CELLS_PER_ITEM * entries.len().max(1);
+        let total = |c: Vec2| cells(ext.x, c.x).saturating_mul(cells(ext.y, c.y));
+        while total(cell) > max_cells {
+            cell *= 2.0;
+        }
+        let (nx, ny) = (cells(ext.x, cell.x), cells(ext.y, cell.y));
         let mut grid = BucketGrid {
             origin: lo,
-            inv_cell: 1.0 / cell,
+            inv_cell: Vec2::new(1.0 / cell.x, 1.0 / cell.y),
             nx,
             ny,
             start: vec![0; nx * ny + 1],
@@ -59,8 +68,8 @@ impl<T: Copy> BucketGrid<T> {
         grid
     }
 
-    fn coord(&self, x: Real, origin: Real, n: usize) -> usize {
-        let i = ((x - origin) * self.inv_cell).floor();
+    fn coord(&self, x: Real, origin: Real, inv_cell: Real, n: usize) -> usize {
+        let i = ((x - origin) * inv_cell).floor();
         if i.is_nan() || i < 0.0 {
             0
         } else {
@@ -68,15 +77,17 @@ impl<T: Copy> BucketGrid<T> {
         }
     }
 
+    fn column(&self, x: Real) -> usize {
+        self.coord(x, self.origin.x, self.inv_cell.x, self.nx)
+    }
+
+    fn row(&self, y: Real) -> usize {
+        self.coord(y, self.origin.y, self.inv_cell.y, self.ny)
+    }
+
     fn for_cells(&self, lo: Vec2, hi: Vec2, mut f: impl FnMut(usize)) {
-        let (i0, i1) = (
-            self.coord(lo.x, self.origin.x, self.nx),
-            self.coord(hi.x, self.origin.x, self.nx),
-        );
-        let (j0, j1) = (
-            self.coord(lo.y, self.origin.y, self.ny),
-            self.coord(hi.y, self.origin.y, self.ny),
-        );
+        let (i0, i1) = (self.column(lo.x), self.column(hi.x));
+        let (j0, j1) = (self.row(lo.y), self.row(hi.y));
         for j in j0..=j1 {
             for i in i0..=i1 {
                 f(j * self.nx + i);
@@ -84,20 +95,9 @@ impl<T: Copy> BucketGrid<T> {
         }
     }
 
-    /// Calls `f` on every item of every cell overlapping the box `[lo, hi]` (an item spanning
-    /// several of those cells is visited once per cell).
-    pub(crate) fn for_each_in(&self, lo: Vec2, hi: Vec2, mut f: impl FnMut(T)) {
-        self.for_cells(lo, hi, |c| {
-            for &item in &self.items[self.start[c] as usize..self.start[c + 1] as usize] {
-                f(item);
-            }
-        });
-    }
-
     /// The items of the cell containing `p` (clamped to the grid).
     pub(crate) fn at(&self, p: Vec2) -> &[T] {
-        let c = self.coord(p.y, self.origin.y, self.ny) * self.nx
-            + self.coord(p.x, self.origin.x, self.nx);
+        let c = self.row(p.y) * self.nx + self.column(p.x);
         &self.items[self.start[c] as usize..self.start[c + 1] as usize]
     }
 }

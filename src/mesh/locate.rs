@@ -35,8 +35,8 @@ pub struct RestLocator {
 }
 
 impl RestLocator {
-    /// Builds the locator for the current mesh in O(faces): a uniform grid with about one face
-    /// per cell, each face listed in the cells its rest bounding box (widened by the snapping
+    /// Builds the locator for the current mesh in O(faces): a grid of cells the size of the mean
+    /// face box (about one face per cell, long thin faces included), each face listed in the cells its rest bounding box (widened by the snapping
     /// distance) overlaps.
     pub fn new(mesh: &Mesh) -> Self {
         let mut lo = Vec2::repeat(Real::INFINITY);
@@ -60,11 +60,12 @@ impl RestLocator {
                 (a.inf(&b).inf(&c) - w, a.sup(&b).sup(&c) + w, f)
             })
             .collect();
-        let ext = hi - lo;
-        let cell = (ext.x * ext.y / mesh.face_count().max(1) as Real).sqrt();
+        // Cells of the mean face box: about one face per cell, however thin the faces.
+        let mean_box =
+            entries.iter().map(|(a, b, _)| b - a).sum::<Vec2>() / entries.len().max(1) as Real;
         RestLocator {
             version: mesh.version(),
-            grid: BucketGrid::new(lo, hi, cell, &entries),
+            grid: BucketGrid::new(lo, hi, mean_box, &entries),
             lo,
             hi,
             snap,

@@ -17,6 +17,7 @@ mod generate;
 mod grid;
 mod locate;
 mod obj;
+mod point_tree;
 
 pub use check::{ConformityError, Rule};
 pub use edit::{Edit, EditError, EditRecord, NewVertex, Origin, VertexRef};
@@ -26,6 +27,17 @@ pub use obj::{load_obj, ObjCloth, ObjError};
 
 use crate::math::{signed_area, Real, Vec2};
 use std::collections::{BTreeMap, BTreeSet};
+
+/// Most vertices a cloth may start with (and the most `adaptivity.max_vertices` may allow): a
+/// run needs about [`BYTES_PER_VERTEX`] of memory per vertex, so this is about 4 GB, a sixth of
+/// this project's 24 GB machines. Larger requests (a 100000 x 100000 grid) are refused up front
+/// instead of aborting in an allocation.
+pub const MAX_VERTICES: usize = 4_000_000;
+
+/// Memory a run needs per vertex (bytes), rounded up from the peak resident size of a 500 x 500
+/// grid run with `rk4` (206 MB for 250000 vertices): mesh, state, force elements, integrator
+/// scratch.
+pub const BYTES_PER_VERTEX: usize = 1024;
 
 /// Index of a vertex slot.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]

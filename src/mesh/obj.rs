@@ -65,6 +65,21 @@ pub enum ObjError {
         /// What is wrong.
         message: String,
     },
+    /// The file has more vertices than a cloth may have ([`super::MAX_VERTICES`]).
+    #[error(
+        "{path}: {count} vertices; a cloth may have at most {max} (about {} GB of memory at \
+         {} bytes each)",
+        max * super::BYTES_PER_VERTEX / 1_000_000_000,
+        super::BYTES_PER_VERTEX
+    )]
+    TooLarge {
+        /// The file.
+        path: String,
+        /// Its vertex count.
+        count: usize,
+        /// [`super::MAX_VERTICES`].
+        max: usize,
+    },
     /// The file has no face.
     #[error("{path}: no face (`f`) statement")]
     NoFaces {
@@ -109,6 +124,13 @@ fn cloth_from_obj(obj: &ObjFile, path: &str) -> Result<ObjCloth, ObjError> {
             Ok((line, [pair(c[0])?, pair(c[1])?, pair(c[2])?]))
         })
         .collect::<Result<_, ObjError>>()?;
+    if obj.positions.len() > super::MAX_VERTICES {
+        return Err(ObjError::TooLarge {
+            path: path.to_string(),
+            count: obj.positions.len(),
+            max: super::MAX_VERTICES,
+        });
+    }
     if tris.is_empty() {
         return Err(ObjError::NoFaces {
             path: path.to_string(),
@@ -254,6 +276,14 @@ mod tests {
         assert_eq!(cloth.positions[1], Vec3::new(1.0, 0.0, 0.0));
         assert!(cloth.mesh.pattern_area() > 0.0);
         cloth.mesh.check().unwrap();
+    }
+
+    #[test]
+    fn a_file_with_more_vertices_than_a_cloth_may_have_is_refused() {
+        let mut text = "v 0 0 0\n".repeat(crate::mesh::MAX_VERTICES + 1);
+        text.push_str("vt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n");
+        let e = parse_obj(&text, "big.obj").unwrap_err().to_string();
+        assert!(e.contains("at most 4000000"), "{e}");
     }
 
     #[test]

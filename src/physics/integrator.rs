@@ -96,6 +96,13 @@ pub trait Integrator: Send {
     /// The integrator's own update of one step, called by [`Integrator::step`] once the fixed
     /// slots' velocities are zero; `x` and `v` have the same length.
     fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats;
+
+    /// Lets a long step end early once `flag` is set (a run being interrupted: that step's
+    /// result is then inexact, and the run stops after it). Default: ignored, for integrators
+    /// whose step has no long inner loop; `implicit_euler` checks it between CG iterations.
+    fn set_interrupt(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
+        let _ = flag;
+    }
 }
 
 /// One step to take: the state `(x, v)` at time `t` and the step size.

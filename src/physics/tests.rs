@@ -681,3 +681,20 @@ fn implicit_euler_converges_and_reports_its_iterations() {
     assert!(x.iter().chain(&v).all(|p| p.iter().all(|c| c.is_finite())));
     assert!(v.iter().all(|vi| vi.norm() < 10.0), "bounded velocities");
 }
+
+/// An interrupt ends the CG loop of a long `implicit_euler` step within 16 iterations.
+#[test]
+fn implicit_euler_stops_its_cg_loop_when_interrupted() {
+    let mesh = union_jack(6, 6, 1.0, 1.0);
+    let model = built(&mesh, &Material::default(), &Forces::default());
+    let (mut x, mut v) = random_state(&mesh, 3, 0.01);
+    let params = crate::physics::IntegratorParams {
+        cg_tolerance: 1e-300,
+        cg_max_iterations: 10_000,
+        ..Default::default()
+    };
+    let mut integ = crate::physics::make_integrator("implicit_euler", &params).unwrap();
+    integ.set_interrupt(std::sync::Arc::new(true.into()));
+    let stats = integ.step(&model, 0.0, 100.0 * model.stable_step(1.0), &mut x, &mut v);
+    assert!(stats.cg_iterations < 16, "{stats:?}");
+}

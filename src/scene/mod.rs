@@ -8,10 +8,12 @@
 //! [`ObstacleSpec::to_core`], [`LoadedScene::obstacles`]).
 
 mod convert;
+mod diagnose;
 mod spec;
 mod validate;
 
 pub use spec::*;
+pub use validate::MAX_STEPS;
 
 use crate::math::Real;
 use std::path::{Path, PathBuf};
@@ -41,6 +43,20 @@ pub struct LoadedScene {
     pub source: String,
     /// Folder for relative paths in the scene.
     pub base_dir: PathBuf,
+    /// The scene's text (for the lines of keys in later messages).
+    text: String,
+    /// Keys set on the command line, with the option that set each.
+    options: Vec<(String, String)>,
+}
+
+impl LoadedScene {
+    /// Where `key`'s value came from, for messages about it: `--set key=value` (the option that
+    /// set it), else `FILE:LINE` (the file and the key's line: `cloth.pinned`, `tracked.0.rest`),
+    /// else the file.
+    pub fn place_of(&self, key: &str) -> String {
+        let (path, line) = validate::locate(&self.text, &self.source, &self.options, key);
+        format!("{path}{line}")
+    }
 }
 
 /// Why a scene could not be loaded; every variant says where and what was expected.
@@ -270,8 +286,21 @@ fn from_text_with(
         path: path.to_string(),
         message: e.to_string().trim_end().to_string(),
     };
+    let options = overrides.options();
+    let checker = validate::Checker {
+        text,
+        source,
+        options: &options,
+    };
+    // An `[[obstacles]]` mistake is named by its key and line (the parser gives the header).
+    let obstacle_error = |table: &toml::Table| diagnose::obstacle_error(table, &checker);
     // First pass on the text itself, so unknown keys and wrong types are reported with their line.
-    let mut scene: Scene = toml::from_str(text).map_err(|e| parse_error(source, e))?;
+    let mut scene: Scene = toml::from_str(text).map_err(|e| {
+        toml::from_str::<toml::Table>(text)
+            .ok()
+            .and_then(|t| obstacle_error(&t))
+            .unwrap_or_else(|| parse_error(source, e))
+    })?;
     if !overrides.set.is_empty() {
         let mut table = toml::Table::try_from(&scene).map_err(|e| SceneError::Parse {
             path: source.to_string(),
@@ -280,8 +309,10 @@ fn from_text_with(
         for arg in &overrides.set {
             apply_override(&mut table, arg)?;
         }
-        scene = Scene::deserialize(toml::Value::Table(table))
-            .map_err(|e| parse_error(&format!("{source} with --set"), e))?;
+        scene = Scene::deserialize(toml::Value::Table(table.clone())).map_err(|e| {
+            obstacle_error(&table)
+                .unwrap_or_else(|| parse_error(&format!("{source} with --set"), e))
+        })?;
     }
     overrides.apply_typed(&mut scene);
     // The name names output folders: it must stay one safe file-name component.
@@ -289,11 +320,13 @@ fn from_text_with(
     if scene.name.is_empty() {
         scene.name = crate::io::file_safe(default_name);
     }
-    validate::validate(&scene, text, source, &base_dir, &overrides.options())?;
+    validate::validate(&scene, text, source, &base_dir, &options)?;
     Ok(LoadedScene {
         scene,
         source: source.to_string(),
         base_dir,
+        text: text.to_string(),
+        options,
     })
 }
 
@@ -311,14 +344,24 @@ pub fn with_overrides(loaded: &LoadedScene, set: &[String]) -> Result<LoadedScen
     for arg in set {
         apply_override(&mut table, arg)?;
     }
-    let scene = Scene::deserialize(toml::Value::Table(table)).map_err(|e| SceneError::Parse {
-        path: format!("{source} with {}", set.join(" ")),
-        message: e.to_string().trim_end().to_string(),
-    })?;
     let options = Overrides::set(set).options();
+    let scene = Scene::deserialize(toml::Value::Table(table.clone())).map_err(|e| {
+        let checker = validate::Checker {
+            text: "",
+            source,
+            options: &options,
+        };
+        diagnose::obstacle_error(&table, &checker).unwrap_or_else(|| SceneError::Parse {
+            path: format!("{source} with {}", set.join(" ")),
+            message: e.to_string().trim_end().to_string(),
+        })
+    })?;
     validate::validate(&scene, "", source, &loaded.base_dir, &options)?;
+    let mut all_options = loaded.options.clone();
+    all_options.extend(options);
     Ok(LoadedScene {
         scene,
+        options: all_options,
         ..loaded.clone()
     })
 }

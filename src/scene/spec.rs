@@ -468,6 +468,10 @@ pub struct AdaptivitySpec {
     /// Local remeshing: minimum angle the hole mesher keeps away from the hole border (degrees).
     /// Default 25.
     pub remesh_min_angle: Real,
+    /// Most live vertices adaptation may grow the mesh to, for every strategy: a run whose
+    /// adaptation pass adds vertices past it (`l_min = 1e-9` with `max_depth = 40`) stops with
+    /// status `failed`. At least 1, at most `mesh::MAX_VERTICES`. Default 200000.
+    pub max_vertices: usize,
 }
 
 impl Default for AdaptivitySpec {
@@ -499,6 +503,7 @@ impl Default for AdaptivitySpec {
             interval: 0.01,
             rounds: 1,
             remesh_min_angle: 25.0,
+            max_vertices: 200_000,
         }
     }
 }

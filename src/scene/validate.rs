@@ -23,33 +23,56 @@ const MAX_LENGTH: Real = 1e6;
 const MAX_FRAMES: Real = 1e5;
 /// Most metrics rows a run may ask for (`duration x metrics_rate`).
 const MAX_METRIC_ROWS: Real = 1e7;
-/// Most steps a fixed-step run may ask for (`duration / dt`): about 20 minutes for the smallest
-/// cloth on this project's machines.
-const MAX_FIXED_STEPS: Real = 1e8;
+/// Most steps a run may ask for (`duration / dt`): about 20 minutes for the smallest cloth on
+/// this project's machines. Checked here for a fixed step; the dynamic step depends on the built
+/// cloth and is estimated by the simulation (`sim::Simulation::check_step_estimate`).
+pub const MAX_STEPS: Real = 1e8;
+
+/// Most conjugate-gradient iterations per step (`integrator.cg_max_iterations`; default 200).
+const MAX_CG_ITERATIONS: usize = 10_000;
+/// Most relaxation passes per step (`integrator.relaxation_passes`; default 4).
+const MAX_RELAXATION_PASSES: usize = 1_000;
+
+/// Where a key's value came from: the option that set it (`--set key=value`; for a list element
+/// `key[i]`, the option that set the list), else the file and the key's line (`FILE:LINE`), else
+/// the file. Returns (path or option, `:LINE` or empty).
+pub(super) fn locate(
+    text: &str,
+    source: &str,
+    options: &[(String, String)],
+    key: &str,
+) -> (String, String) {
+    let whole = key.split('[').next().unwrap_or(key);
+    match options.iter().rev().find(|(k, _)| k == key || k == whole) {
+        Some((_, option)) => (option.clone(), String::new()),
+        None => (
+            source.to_string(),
+            find_line(text, key)
+                .map(|l| format!(":{l}"))
+                .unwrap_or_default(),
+        ),
+    }
+}
 
 /// Collects the first out-of-range value of a scene.
-struct Checker<'a> {
-    text: &'a str,
-    source: &'a str,
+pub(super) struct Checker<'a> {
+    pub(super) text: &'a str,
+    pub(super) source: &'a str,
     /// Keys set on the command line, with the option that set them: their errors name the option,
     /// not a line of the file.
-    options: &'a [(String, String)],
+    pub(super) options: &'a [(String, String)],
 }
 
 impl Checker<'_> {
     /// An error for `key` (`section.key`, or `obstacles.N.key`) holding `value`: named by the
     /// option that set it, else by the file and the key's line.
-    fn fail(&self, key: &str, value: impl std::fmt::Display, expected: &str) -> SceneError {
-        let option = self.options.iter().rev().find(|(k, _)| k == key);
-        let (path, line) = match option {
-            Some((_, option)) => (option.clone(), String::new()),
-            None => (
-                self.source.to_string(),
-                find_line(self.text, key)
-                    .map(|l| format!(":{l}"))
-                    .unwrap_or_default(),
-            ),
-        };
+    pub(super) fn fail(
+        &self,
+        key: &str,
+        value: impl std::fmt::Display,
+        expected: &str,
+    ) -> SceneError {
+        let (path, line) = locate(self.text, self.source, self.options, key);
         SceneError::Invalid {
             path,
             line,
@@ -153,11 +176,36 @@ pub(super) fn validate(
                     "expected 0 (same as resolution) or at least 2",
                 ));
             }
+            let ny = match cloth.resolution_v {
+                0 => cloth.resolution,
+                n => n,
+            };
+            let key = if ny > cloth.resolution {
+                "cloth.resolution_v"
+            } else {
+                "cloth.resolution"
+            };
+            let what = format!("a {} x {ny} grid", cloth.resolution);
+            let value = if key == "cloth.resolution_v" {
+                ny
+            } else {
+                cloth.resolution
+            };
+            vertex_count(&c, (key, value), cloth.resolution.checked_mul(ny), &what)?;
         }
         ClothShape::Disk => {
             if cloth.resolution < 1 {
                 return Err(c.fail("cloth.resolution", 0, "expected at least 1 ring"));
             }
+            // Ring k has 6k vertices: 1 + 3 r (r + 1) in all.
+            let r = cloth.resolution;
+            let count = r
+                .checked_add(1)
+                .and_then(|r1| r1.checked_mul(r))
+                .and_then(|n| n.checked_mul(3))
+                .and_then(|n| n.checked_add(1));
+            let what = format!("a disk of {r} rings");
+            vertex_count(&c, ("cloth.resolution", r), count, &what)?;
         }
         ClothShape::Obj => {
             if cloth.mesh.is_empty() {
@@ -167,12 +215,11 @@ pub(super) fn validate(
                     "expected an OBJ file for shape = \"obj\"",
                 ));
             }
-            let path = base_dir.join(&cloth.mesh);
-            if !path.is_file() {
+            if let Some(why) = not_a_file(&base_dir.join(&cloth.mesh)) {
                 return Err(c.fail(
                     "cloth.mesh",
                     &cloth.mesh,
-                    &format!("expected an existing file ({} not found)", path.display()),
+                    &format!("expected an existing OBJ file ({why})"),
                 ));
             }
         }
@@ -231,7 +278,7 @@ pub(super) fn validate(
         ),
     ];
     if t.mode == super::TimeMode::Fixed {
-        counts.push(("time.dt", t.dt, t.duration / t.dt, MAX_FIXED_STEPS, "steps"));
+        counts.push(("time.dt", t.dt, t.duration / t.dt, MAX_STEPS, "steps"));
     }
     for (key, value, count, max, what) in counts {
         if count > max {
@@ -260,11 +307,21 @@ pub(super) fn validate(
         ));
     }
     c.positive("integrator.cg_tolerance", scene.integrator.cg_tolerance)?;
-    if scene.integrator.cg_max_iterations == 0 {
+    // Loops inside one step are bounded, so a step (and Ctrl-C between steps) never waits on
+    // billions of passes.
+    let i = &scene.integrator;
+    if !(1..=MAX_CG_ITERATIONS).contains(&i.cg_max_iterations) {
         return Err(c.fail(
             "integrator.cg_max_iterations",
-            0.0,
-            "expected at least 1 iteration",
+            i.cg_max_iterations,
+            &format!("expected 1 to {MAX_CG_ITERATIONS} iterations per step"),
+        ));
+    }
+    if i.relaxation_passes > MAX_RELAXATION_PASSES {
+        return Err(c.fail(
+            "integrator.relaxation_passes",
+            i.relaxation_passes,
+            &format!("expected at most {MAX_RELAXATION_PASSES} passes per step"),
         ));
     }
     c.non_negative("collision.margin", scene.collision.margin)?;
@@ -311,15 +368,11 @@ pub(super) fn validate(
             } => {
                 c.positive(&key("scale"), *scale)?;
                 c.finite3(&key("translation"), *translation)?;
-                let path = base_dir.join(file);
-                if !path.is_file() {
+                if let Some(why) = not_a_file(&base_dir.join(file)) {
                     return Err(c.fail(
                         &key("file"),
                         file,
-                        &format!(
-                            "expected an existing OBJ file ({} not found)",
-                            path.display()
-                        ),
+                        &format!("expected an existing OBJ file ({why})"),
                     ));
                 }
             }
@@ -378,6 +431,16 @@ pub(super) fn validate(
             "expected a number of rounds per pass in 1..=16",
         ));
     }
+    if !(1..=crate::mesh::MAX_VERTICES).contains(&a.max_vertices) {
+        return Err(c.fail(
+            "adaptivity.max_vertices",
+            a.max_vertices,
+            &format!(
+                "expected a vertex count in [1, {}] (the most a run may allocate)",
+                crate::mesh::MAX_VERTICES
+            ),
+        ));
+    }
     if !(a.remesh_min_angle > 0.0 && a.remesh_min_angle <= 33.0) {
         return Err(c.fail(
             "adaptivity.remesh_min_angle",
@@ -396,6 +459,51 @@ pub(super) fn validate(
         }
     }
     Ok(())
+}
+
+/// Why `path` cannot be read as a file, `None` when it is a regular file: not found (or not
+/// readable), a folder, or a device, pipe or socket (reading one could block or never end).
+fn not_a_file(path: &Path) -> Option<String> {
+    let shown = path.display();
+    match std::fs::metadata(path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Some(format!("{shown} not found")),
+        Err(e) => Some(format!("{shown}: {e}")),
+        Ok(m) if m.is_dir() => Some(format!("{shown} is a folder")),
+        Ok(m) if !m.is_file() => Some(format!(
+            "{shown} is not a regular file: a device, pipe or socket"
+        )),
+        Ok(_) => None,
+    }
+}
+
+/// Fails when a cloth of `count` vertices (`None`: past `usize`) is more than a run may allocate
+/// ([`crate::mesh::MAX_VERTICES`], about [`crate::mesh::BYTES_PER_VERTEX`] bytes each); `what`
+/// describes the cloth, `key` is the key to blame with its value.
+fn vertex_count(
+    c: &Checker,
+    (key, value): (&str, usize),
+    count: Option<usize>,
+    what: &str,
+) -> Result<(), SceneError> {
+    use crate::mesh::{BYTES_PER_VERTEX, MAX_VERTICES};
+    if count.is_some_and(|n| n <= MAX_VERTICES) {
+        return Ok(());
+    }
+    let need = match count {
+        Some(n) => format!(
+            "{n} vertices, about {:.3e} GB of memory",
+            n as Real * BYTES_PER_VERTEX as Real / 1e9
+        ),
+        None => "more vertices than this machine can count".to_string(),
+    };
+    Err(c.fail(
+        key,
+        value,
+        &format!(
+            "{what} has {need}; at most {MAX_VERTICES} vertices (about {} GB) are accepted",
+            MAX_VERTICES * BYTES_PER_VERTEX / 1_000_000_000
+        ),
+    ))
 }
 
 /// Fails when a strategy-specific `[adaptivity]` key holds a non-default value while the scene's

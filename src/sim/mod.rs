@@ -18,7 +18,7 @@ use crate::collision::{ContactStats, Obstacles};
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{Barycentric, RestLocator};
 use crate::physics::{make_integrator, Integrator, StepStats};
-use crate::scene::{LoadedScene, Scene, TimeMode};
+use crate::scene::{LoadedScene, Scene, TimeMode, MAX_STEPS};
 use crate::strategies::make_strategy;
 use std::time::{Duration, Instant};
 
@@ -130,11 +130,7 @@ impl Simulation {
             let rest = Vec2::new(p.rest[0], p.rest[1]);
             let location = locator
                 .locate(&cloth.mesh, rest)
-                .ok_or(SetupError::OffPattern {
-                    what: format!("tracked[{i}]"),
-                    u: rest.x,
-                    v: rest.y,
-                })?;
+                .ok_or_else(|| setup::off_pattern(loaded, &format!("tracked.{i}.rest"), p.rest))?;
             let name = if p.name.is_empty() {
                 format!("p{i}")
             } else {
@@ -166,6 +162,12 @@ impl Simulation {
         })
     }
 
+    /// Lets a long step end early once `flag` is set (the run driver passes its interrupt flag,
+    /// so Ctrl-C or SIGTERM is answered within a step's inner loop, not after it).
+    pub fn set_interrupt(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
+        self.integrator.set_interrupt(flag);
+    }
+
     /// The strategy's name.
     pub fn strategy_name(&self) -> &'static str {
         self.strategy.name()
@@ -184,12 +186,18 @@ impl Simulation {
     ///
     /// [`ForceModel::damping_step_limit`]: crate::physics::ForceModel::damping_step_limit
     pub fn next_dt(&self) -> Real {
+        self.dt_for(self.contact_seen, self.damping_limit.1)
+    }
+
+    /// The step (s) [`Simulation::next_dt`] gives on the current mesh, before or after the first
+    /// contact, with the spring damping's step limit `damping_limit` (s).
+    fn dt_for(&self, contact_seen: bool, damping_limit: Real) -> Real {
         let time = &self.scene.time;
         if time.mode == TimeMode::Fixed {
             return time.dt;
         }
-        if time.dt_initial > 0.0 && !self.contact_seen {
-            return time.dt_initial.min(self.damping_limit.1);
+        if time.dt_initial > 0.0 && !contact_seen {
+            return time.dt_initial.min(damping_limit);
         }
         let mut dt = self.cloth.model.stable_step(time.beta);
         if time.dt_max > 0.0 {
@@ -199,6 +207,41 @@ impl Simulation {
             dt = dt.max(time.dt_min);
         }
         dt
+    }
+
+    /// The run's step count estimated on the cloth as built: `(duration / dt, dt)` with `dt` (s)
+    /// the smaller of the first step and the dynamic step after the first contact.
+    pub fn step_estimate(&self) -> (Real, Real) {
+        let limit = self.cloth.model.damping_step_limit();
+        let dt = self.dt_for(false, limit).min(self.dt_for(true, limit));
+        (self.scene.time.duration / dt, dt)
+    }
+
+    /// Fails when [`Simulation::step_estimate`] is above [`MAX_STEPS`] (or not a number): a run
+    /// that could never finish (`material.E = 1e308`, `time.dt_initial = 1e-300`). The error
+    /// gives the estimate and the quantities that set the step.
+    pub fn check_step_estimate(&self) -> Result<(), SetupError> {
+        let (steps, dt) = self.step_estimate();
+        if steps <= MAX_STEPS {
+            return Ok(());
+        }
+        let t = &self.scene.time;
+        let model = &self.cloth.model;
+        Err(SetupError::TooManySteps(format!(
+            "this run would take about {steps:.3e} steps of {dt:.3e} s over time.duration = {} s; \
+             at most {MAX_STEPS:e} are accepted (--force runs it anyway). The step is time.beta \
+             = {} x pi x sqrt(smallest vertex mass {:.3e} kg / largest spring stiffness {:.3e} \
+             N/m; set by material.E, material.rho, material.T and the cloth's resolution), \
+             clamped by time.dt_min = {:e} s and time.dt_max = {:e} s, with time.dt_initial = \
+             {:e} s until the first contact",
+            t.duration,
+            t.beta,
+            model.min_mass(),
+            model.max_stiffness(),
+            t.dt_min,
+            t.dt_max,
+            t.dt_initial
+        )))
     }
 
     /// One step: integrate, collide, adapt. The step is cut so the run ends exactly at
@@ -267,7 +310,8 @@ impl Simulation {
                             reason: e.to_string(),
                         })?;
                 total.merge(&round);
-                if round.vertices_added == 0 {
+                let over_cap = self.cloth.mesh.vertex_count() > self.scene.adaptivity.max_vertices;
+                if round.vertices_added == 0 || over_cap {
                     break;
                 }
                 self.cloth.refresh_state_len();
@@ -277,6 +321,17 @@ impl Simulation {
             AdaptReport::default()
         };
         self.stage_times.adapt_s += secs(clock.elapsed());
+        let max_vertices = self.scene.adaptivity.max_vertices;
+        if adapt.vertices_added > 0 && self.cloth.mesh.vertex_count() > max_vertices {
+            return Err(StepError::Adapt {
+                step: self.steps,
+                t: self.t,
+                reason: format!(
+                    "the mesh has {} vertices, above adaptivity.max_vertices = {max_vertices}",
+                    self.cloth.mesh.vertex_count()
+                ),
+            });
+        }
         if adapt.events > 0 {
             let clock = Instant::now();
             self.cloth.refresh();

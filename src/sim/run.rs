@@ -4,7 +4,7 @@
 
 use super::sample::{SamplePoints, Sampler, Trajectory};
 use super::{Simulation, StageTimes, StepError};
-use crate::io::{frame_path, write_atomic, MetricsRow, MetricsWriter};
+use crate::io::{frame_path, is_frame_name, temp_path, write_atomic, MetricsRow, MetricsWriter};
 use crate::math::Real;
 use crate::math::Vec3;
 use crate::mesh::Mesh;
@@ -98,26 +98,21 @@ pub struct RunSummary {
 }
 
 /// Runs `sim` to its duration, writing `frames/`, `metrics.csv` and `summary.json` to
-/// `opts.out_dir`. I/O errors are returned; simulation failures end the run with a status.
+/// `opts.out_dir`. Simulation failures and write failures during the run (a full disk) end the
+/// run with a status (`failed` for a write, naming the file); a metrics table whose write failed
+/// keeps its `.partial` name. Errors preparing the folder or writing the summary are returned.
 pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummary> {
     let started = Instant::now();
-    let frames_dir = opts.out_dir.join("frames");
-    std::fs::create_dir_all(&frames_dir)?;
-    for entry in std::fs::read_dir(&frames_dir)? {
-        let path = entry?.path();
-        let stale = path
-            .file_name()
-            .and_then(|n| n.to_str())
-            .is_some_and(|n| n.starts_with("frame_") && n.ends_with(".obj"));
-        if stale {
-            std::fs::remove_file(path)?;
-        }
+    if let Some(flag) = &opts.interrupt {
+        sim.set_interrupt(flag.clone());
     }
-    let _ = std::fs::remove_file(opts.out_dir.join("summary.json"));
+    clear_previous_run(&opts.out_dir)?;
     if let Some(text) = &opts.resolved_scene {
         write_atomic(&opts.out_dir.join("scene.resolved.toml"), text.as_bytes())?;
     }
-    let mut metrics = MetricsWriter::create(&opts.out_dir, sim.tracked.len())?;
+    let names: Vec<String> = sim.tracked.iter().map(|p| p.name.clone()).collect();
+    let mut metrics = Some(MetricsWriter::create(&opts.out_dir, &names)?);
+    let metrics_path = opts.out_dir.join("metrics.csv.partial");
     let bar = match &opts.bar {
         Some(bar) => {
             bar.set_length((sim.scene.time.duration * 1e3).ceil() as u64);
@@ -136,7 +131,8 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
     let mut next_metrics = 0.0;
     let (mut status, mut message) = (RunStatus::Completed, String::new());
     let mut last_flush = Instant::now();
-
+    // A failed write ends the run as `failed`; a failed metrics write also drops the table
+    // (left as `.partial`: it may be torn).
     loop {
         let clock = Instant::now();
         let due_frame = sim.t >= frames as Real * frame_period - 1e-9 * frame_period;
@@ -144,7 +140,10 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         if due_frame || done || sim.t >= next_metrics || last.adapt.events > 0 {
             let row = metrics_row(sim, &last);
             max_penetration = max_penetration.max(row.max_penetration);
-            metrics.row(&row)?;
+            if let Some(Err(e)) = metrics.as_mut().map(|m| m.row(&row)) {
+                (status, message) = write_failure(sim, &metrics_path, e);
+                metrics = None;
+            }
             while next_metrics <= sim.t {
                 let next = next_metrics + metrics_period;
                 if next == next_metrics {
@@ -155,7 +154,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
                 next_metrics = next;
             }
         }
-        if due_frame {
+        if due_frame && status == RunStatus::Completed {
             if let Err(e) = sim.cloth.mesh.check() {
                 status = RunStatus::Failed;
                 message = format!(
@@ -163,19 +162,22 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
                     sim.steps, sim.t
                 );
             }
-            write_mesh_frame(
-                &frame_path(&opts.out_dir, frames),
-                &sim.cloth.mesh,
-                &sim.cloth.x,
-                sim.t,
-            )?;
-            if let Some(s) = sampler.as_mut() {
-                s.record(&sim.cloth, sim.t);
+            let path = frame_path(&opts.out_dir, frames);
+            match write_mesh_frame(&path, &sim.cloth.mesh, &sim.cloth.x, sim.t) {
+                Ok(()) => {
+                    if let Some(s) = sampler.as_mut() {
+                        s.record(&sim.cloth, sim.t);
+                    }
+                    frames += 1;
+                }
+                Err(e) => (status, message) = write_failure(sim, &path, e),
             }
-            frames += 1;
         }
         if last_flush.elapsed() > Duration::from_secs(2) {
-            metrics.flush()?;
+            if let Some(Err(e)) = metrics.as_mut().map(MetricsWriter::flush) {
+                (status, message) = write_failure(sim, &metrics_path, e);
+                metrics = None;
+            }
             last_flush = Instant::now();
         }
         sim.stage_times.record_s += clock.elapsed().as_secs_f64();
@@ -205,7 +207,11 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
                 };
                 message = e.to_string();
                 let row = metrics_row(sim, &last);
-                metrics.row(&row)?;
+                if let Some(Err(e)) = metrics.as_mut().map(|m| m.row(&row)) {
+                    let (failed, why) = write_failure(sim, &metrics_path, e);
+                    (status, message) = (failed, format!("{message}; then {why}"));
+                    metrics = None;
+                }
                 break;
             }
         }
@@ -221,7 +227,9 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         }
     }
     bar.finish_and_clear();
-    metrics.finish()?;
+    if let Some(Err(e)) = metrics.map(MetricsWriter::finish) {
+        (status, message) = write_failure(sim, &metrics_path, e);
+    }
     let summary = RunSummary {
         scene: sim.scene.name.clone(),
         source: opts.source.clone(),
@@ -244,6 +252,51 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
     let json = serde_json::to_string_pretty(&summary).map_err(std::io::Error::other)?;
     write_atomic(&opts.out_dir.join("summary.json"), json.as_bytes())?;
     Ok(summary)
+}
+
+/// The status and message of a run whose write of `path` failed (a full disk, no permission).
+fn write_failure(sim: &Simulation, path: &Path, e: std::io::Error) -> (RunStatus, String) {
+    let message = format!(
+        "writing {} failed at step {}, t = {:.6} s: {e}",
+        path.display(),
+        sim.steps,
+        sim.t
+    );
+    (RunStatus::Failed, message)
+}
+
+/// Prepares `out_dir` for a run and removes what an earlier run there left that this run
+/// rewrites, and nothing else: frame files of the exact pattern `frames/frame_NNNNN.obj`, the
+/// summary, and the temporary files of interrupted atomic writes of those names (`NAME.tmp`).
+/// Any other file in the folder (a user's notes, `frame_final.obj`) is kept.
+fn clear_previous_run(out_dir: &Path) -> std::io::Result<()> {
+    let frames_dir = out_dir.join("frames");
+    std::fs::create_dir_all(&frames_dir)?;
+    for entry in std::fs::read_dir(&frames_dir)? {
+        let entry = entry?;
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        let own = is_frame_name(name.strip_suffix(".tmp").unwrap_or(&name));
+        if own && entry.file_type()?.is_file() {
+            std::fs::remove_file(entry.path())?;
+        }
+    }
+    for name in ["summary.json", "scene.resolved.toml", "metrics.csv"] {
+        let path = out_dir.join(name);
+        if name == "summary.json" {
+            remove_file_if_any(&path)?;
+        }
+        remove_file_if_any(&temp_path(&path))?;
+    }
+    Ok(())
+}
+
+/// Removes the regular file `path`; nothing when there is none (or a folder is there).
+fn remove_file_if_any(path: &Path) -> std::io::Result<()> {
+    if std::fs::symlink_metadata(path).is_ok_and(|m| m.is_file()) {
+        std::fs::remove_file(path)?;
+    }
+    Ok(())
 }
 
 /// The metrics of the current state; `last` is the step just taken.

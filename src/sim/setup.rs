@@ -16,10 +16,12 @@ pub enum SetupError {
     #[error("obstacles: {0}")]
     Collision(#[from] crate::collision::CollisionError),
     /// A pinned or tracked rest point is not on the pattern.
-    #[error("{what} [{u}, {v}] is not on the cloth pattern (rest space)")]
+    #[error("{place}: {key} = [{u}, {v}]: expected a rest point on the cloth pattern (m)")]
     OffPattern {
-        /// `cloth.pinned[i]` or `tracked[i]`.
-        what: String,
+        /// Where the point was given: `FILE:LINE` or the option that set it.
+        place: String,
+        /// `cloth.pinned[i]` or `tracked.i.rest`.
+        key: String,
         /// Rest u (m).
         u: Real,
         /// Rest v (m).
@@ -31,6 +33,10 @@ pub enum SetupError {
     /// The integrator is unknown.
     #[error("{0}")]
     Integrator(#[from] crate::physics::UnknownIntegrator),
+    /// The run would take more steps than [`crate::scene::MAX_STEPS`] (the message says how many
+    /// and why).
+    #[error("{0}")]
+    TooManySteps(String),
 }
 
 /// Builds the cloth of a scene: the pattern mesh, its world placement (the pattern centre at
@@ -60,11 +66,8 @@ pub fn build_cloth(loaded: &LoadedScene) -> Result<Cloth, SetupError> {
         }
     };
     for (i, p) in spec.pinned.iter().enumerate() {
-        let v = nearest_vertex(&mesh, Vec2::new(p[0], p[1])).ok_or(SetupError::OffPattern {
-            what: format!("cloth.pinned[{i}]"),
-            u: p[0],
-            v: p[1],
-        })?;
+        let v = nearest_vertex(&mesh, Vec2::new(p[0], p[1]))
+            .ok_or_else(|| off_pattern(loaded, &format!("cloth.pinned[{i}]"), *p))?;
         mesh.set_pinned(v, true);
     }
     let s = &loaded.scene;
@@ -75,6 +78,16 @@ pub fn build_cloth(loaded: &LoadedScene) -> Result<Cloth, SetupError> {
         &(&s.material).into(),
         &(&s.forces).into(),
     ))
+}
+
+/// The error for the rest point `p` (m) of `key` lying off the pattern, placed at its line.
+pub(crate) fn off_pattern(loaded: &LoadedScene, key: &str, p: [Real; 2]) -> SetupError {
+    SetupError::OffPattern {
+        place: loaded.place_of(key),
+        key: key.to_string(),
+        u: p[0],
+        v: p[1],
+    }
 }
 
 /// World positions of a flat pattern of the given rest size (m) centred at `center` (m).
@@ -119,12 +132,8 @@ pub(crate) fn drivers(
         if vel == Vec3::zeros() {
             continue;
         }
-        let v =
-            nearest_vertex(&cloth.mesh, Vec2::new(p[0], p[1])).ok_or(SetupError::OffPattern {
-                what: format!("cloth.pinned[{i}]"),
-                u: p[0],
-                v: p[1],
-            })?;
+        let v = nearest_vertex(&cloth.mesh, Vec2::new(p[0], p[1]))
+            .ok_or_else(|| off_pattern(loaded, &format!("cloth.pinned[{i}]"), *p))?;
         out.push((v.0 as usize, vel));
     }
     out.sort_by_key(|d| d.0);

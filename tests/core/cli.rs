@@ -79,6 +79,51 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", dir.path().to_str().unwrap()],
             "cannot read scene file",
         ),
+        // A dynamic step that makes the run endless (issue 15): refused with the estimate.
+        (
+            vec!["run", "--set", "material.E=1e308"],
+            "this run would take about 9.600e303 steps of 6.250e-305 s",
+        ),
+        (
+            vec!["run", "--set", "time.dt_initial=1e-300"],
+            "time.dt_initial = 1e-300 s until the first contact",
+        ),
+        // Caps on growth and on the loops inside one step (issue 15).
+        (
+            vec!["run", "--set", "adaptivity.max_vertices=0"],
+            "adaptivity.max_vertices",
+        ),
+        (
+            vec!["run", "--set", "integrator.relaxation_passes=1000000000000"],
+            "expected at most 1000 passes per step",
+        ),
+        (
+            vec!["run", "--set", "integrator.cg_max_iterations=1000000000000"],
+            "expected 1 to 10000 iterations per step",
+        ),
+        // Sizes that aborted allocating or wrapped (issue 15): refused with the memory they need.
+        (
+            vec!["run", "--set", "cloth.resolution=100000"],
+            "1.024e4 GB of memory; at most 4000000 vertices",
+        ),
+        (
+            vec!["run", "--set", "cloth.resolution=9223372036854775807"],
+            "more vertices than this machine can count",
+        ),
+        (
+            vec!["run", "--set", "cloth.resolution_v=100000000"],
+            "--set cloth.resolution_v=100000000: cloth.resolution_v",
+        ),
+        (
+            vec![
+                "run",
+                "--set",
+                "cloth.shape=\"disk\"",
+                "--set",
+                "cloth.resolution=9223372036854775807",
+            ],
+            "a disk of 9223372036854775807 rings has more vertices",
+        ),
     ];
     for (args, needle) in cases {
         let (code, err) = adaptcloth(&args);
@@ -86,6 +131,35 @@ fn bad_input_exits_2_with_a_clear_message() {
         assert!(err.contains(needle), "{args:?}: {err}");
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
+}
+
+/// `--force` runs what the step estimate refuses: here a run of 1e-300 s steps that stops at
+/// its first step (the cloth starts faster than `time.max_speed`).
+#[test]
+fn force_runs_a_run_refused_by_the_step_estimate() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let mut args = vec![
+        "run",
+        "--set",
+        "time.dt_initial=1e-300",
+        "--set",
+        "cloth.velocity=[0.0, 0.0, 1.0]",
+        "--set",
+        "time.max_speed=0.5",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("--force runs it anyway"), "{err}");
+    assert!(!out.join("summary.json").exists());
+    args.push("--force");
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 1, "{err}");
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"status\": \"diverged\""), "{summary}");
 }
 
 #[test]
@@ -217,4 +291,212 @@ fn an_error_in_a_command_line_value_names_the_option_not_a_scene_line() {
     let (code, err) = adaptcloth(&["run", bad.to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(err.contains("bad.toml:2: material.rho"), "{err}");
+}
+
+fn summary_of(out: &std::path::Path) -> String {
+    std::fs::read_to_string(out.join("summary.json")).unwrap()
+}
+
+/// A reused output folder: the run removes its own earlier frames and leftover temporary files,
+/// never a file it did not write (issue 15: `frame_*.obj` of any name was deleted).
+#[test]
+fn a_run_removes_only_its_own_files_from_a_reused_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let frames = out.join("frames");
+    std::fs::create_dir_all(&frames).unwrap();
+    let foreign = [
+        "notes.txt",
+        "other.tmp",
+        "frames/frame_final.obj",
+        "frames/frame_12.obj",
+        "frames/notes.obj",
+        "frames/frame_00009.obj.bak",
+    ];
+    let own = [
+        "frames/frame_00009.obj",
+        "frames/frame_00007.obj.tmp",
+        "summary.json.tmp",
+        "scene.resolved.toml.tmp",
+    ];
+    for f in foreign.iter().chain(&own) {
+        std::fs::write(out.join(f), "x").unwrap();
+    }
+    let (code, err) = adaptcloth(&[
+        "run",
+        "--duration",
+        "0.02",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    for f in foreign {
+        assert!(out.join(f).is_file(), "{f} was removed");
+    }
+    for f in own {
+        assert!(!out.join(f).exists(), "{f} was left");
+    }
+    assert!(frames.join("frame_00001.obj").is_file());
+}
+
+/// A write that fails during the run (here a folder stands where frame 1 goes) ends the run with
+/// status `failed` naming the file, exit 1, the summary and the complete metrics on disk, and no
+/// temporary file left behind.
+#[test]
+fn a_failed_write_fails_the_run_with_a_clear_message() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    std::fs::create_dir_all(out.join("frames/frame_00001.obj")).unwrap();
+    let (code, err) = adaptcloth(&[
+        "run",
+        "--duration",
+        "0.05",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("frame_00001.obj failed at step"), "{err}");
+    let summary = summary_of(&out);
+    assert!(summary.contains("\"status\": \"failed\""), "{summary}");
+    assert!(summary.contains("\"frames\": 1,"), "{summary}");
+    assert!(out.join("metrics.csv").is_file());
+    assert!(!out.join("frames/frame_00001.obj.tmp").exists());
+}
+
+/// A full disk under the metrics table (its file is `/dev/full`): the run fails with the table's
+/// name, and the torn table keeps its `.partial` name, so it never looks complete.
+#[test]
+fn a_full_disk_fails_the_run_and_leaves_no_torn_file_looking_complete() {
+    if !std::path::Path::new("/dev/full").exists() {
+        crate::common::say_skipped("no /dev/full on this system");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    std::fs::create_dir_all(&out).unwrap();
+    std::os::unix::fs::symlink("/dev/full", out.join("metrics.csv.partial")).unwrap();
+    let (code, err) = adaptcloth(&[
+        "run",
+        "--duration",
+        "0.05",
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("metrics.csv.partial failed at step"), "{err}");
+    assert!(summary_of(&out).contains("\"status\": \"failed\""));
+    assert!(!out.join("metrics.csv").exists());
+}
+
+/// SIGTERM and SIGHUP stop a run like Ctrl-C: status `interrupted` in the summary, exit 130.
+#[test]
+fn sigterm_and_sighup_stop_a_run_cleanly() {
+    for signal in ["-TERM", "-HUP"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("o");
+        // A run of minutes: the hanging scene over 10 s of simulated time.
+        let mut child = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+            .args(["run", "hanging", "--duration", "10", "--quiet", "--out"])
+            .arg(&out)
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .expect("binary runs");
+        let started = std::time::Instant::now();
+        while !out.join("metrics.csv.partial").exists() {
+            assert!(started.elapsed().as_secs() < 60, "the run did not start");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(200));
+        let sent = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+        let status = child.wait().unwrap();
+        assert_eq!(status.code(), Some(130), "{signal}");
+        let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+        assert!(
+            summary.contains("\"status\": \"interrupted\""),
+            "{signal}: {summary}"
+        );
+        assert!(out.join("metrics.csv").is_file(), "{signal}");
+    }
+}
+
+/// Mistakes inside `[[obstacles]]` name the key and its own line (the parser gave the header's
+/// line and no key); points off the cloth and mesh paths that are folders or devices say so with
+/// their line (issue 15).
+#[test]
+fn errors_name_the_key_and_its_own_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let sphere = "[cloth]\nresolution = 5\n\n[[obstacles]]\nkind = \"sphere\"\n";
+    let cases = [
+        (
+            format!("{sphere}center = [0.0, 0.0, 0.0]\nradius = \"big\"\n"),
+            ":7: obstacles.0.radius = \"big\": invalid type: string \"big\", expected f64",
+        ),
+        (
+            format!("{sphere}center = [0.0, 0.0, 0.0]\nradius = 1.0\nfoo = 2\n"),
+            ":8: obstacles.0.foo = 2: no such key for this kind; valid keys: center, friction",
+        ),
+        (
+            format!("{sphere}center = [0.0, 0.0]\nradius = 1.0\n"),
+            ":6: obstacles.0.center = [0.0, 0.0]: invalid length 2",
+        ),
+        (
+            "[[obstacles]]\nkind = \"ground\"\n[[obstacles]]\nkind = \"blob\"\n".to_string(),
+            ":4: obstacles.1.kind = \"blob\": expected one of: \"ground\", \"sphere\"",
+        ),
+        (
+            "[[obstacles]]\nkind = \"mesh\"\nfile = \"/dev/null\"\n".to_string(),
+            ":3: obstacles.0.file = /dev/null: expected an existing OBJ file (/dev/null is not a \
+             regular file",
+        ),
+        (
+            "[[obstacles]]\nkind = \"mesh\"\nfile = \"/tmp\"\n".to_string(),
+            ":3: obstacles.0.file = /tmp: expected an existing OBJ file (/tmp is a folder)",
+        ),
+        (
+            "[cloth]\nshape = \"obj\"\nmesh = \"/tmp\"\n".to_string(),
+            ":3: cloth.mesh = /tmp: expected an existing OBJ file (/tmp is a folder)",
+        ),
+        (
+            "[cloth]\nresolution = 5\npinned = [[0.0, 0.0], [5.0, 5.0]]\n".to_string(),
+            ":3: cloth.pinned[1] = [5, 5]: expected a rest point on the cloth pattern",
+        ),
+        (
+            "[cloth]\nresolution = 5\n\n[[tracked]]\nname = \"far\"\nrest = [9.0, 9.0]\n"
+                .to_string(),
+            ":6: tracked.0.rest = [9, 9]: expected a rest point on the cloth pattern",
+        ),
+    ];
+    for (k, (text, needle)) in cases.iter().enumerate() {
+        let file = dir.path().join(format!("s{k}.toml"));
+        std::fs::write(&file, text).unwrap();
+        let (code, err) = adaptcloth(&["run", file.to_str().unwrap()]);
+        assert_eq!(code, 2, "{text}: {err}");
+        let expected = format!("{}{needle}", file.display());
+        assert!(
+            err.contains(&expected),
+            "{text}\nexpected {expected}\ngot {err}"
+        );
+    }
+    // The same from the command line names the option.
+    for (args, needle) in [
+        (
+            ["run", "--set", "obstacles.0.radius=\"big\""],
+            "--set obstacles.0.radius=\"big\": obstacles.0.radius = \"big\": invalid type",
+        ),
+        (
+            ["run", "--set", "cloth.pinned=[[5.0, 5.0]]"],
+            "--set cloth.pinned=[[5.0, 5.0]]: cloth.pinned[0] = [5, 5]: expected a rest point",
+        ),
+    ] {
+        let (code, err) = adaptcloth(&args);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
 }

@@ -10,5 +10,6 @@ mod integrators;
 mod physics_laws;
 mod resolution;
 mod runs;
+mod scene_fuzz;
 mod study;
 mod transfer;

@@ -67,9 +67,10 @@ fn metrics_have_the_required_columns() {
         "linear_momentum",
         "kinetic_energy",
         "max_penetration",
-        "p0_x",
-        "p0_y",
-        "p0_z",
+        // The tracked point by its name in the scene (`name = "P"`).
+        "P_x",
+        "P_y",
+        "P_z",
     ] {
         assert!(header.iter().any(|h| h == col), "missing column {col}");
     }
@@ -81,7 +82,7 @@ fn metrics_have_the_required_columns() {
     let last = rows.last().unwrap();
     assert_eq!(last[0] as u64, summary.steps);
     // The tracked corner P = (1, 1) starts at the world corner (0.5, 0.5, 0.3).
-    let px = header.iter().position(|h| h == "p0_x").unwrap();
+    let px = header.iter().position(|h| h == "P_x").unwrap();
     assert!((rows[0][px] - 0.5).abs() < 1e-12);
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("summary.json")).unwrap())
@@ -161,6 +162,37 @@ fn interrupt_stops_cleanly() {
     assert!(summary.message.contains("step 0"), "{}", summary.message);
     assert!(dir.path().join("metrics.csv").is_file());
     assert!(dir.path().join("frames/frame_00000.obj").is_file());
+}
+
+/// A mesh that adaptation grows past `adaptivity.max_vertices` stops the run with status
+/// `failed`, a message naming the cap and the key, and complete outputs (issue 15: `l_min = 1e-9`
+/// with a deep `max_depth` grew without bound).
+#[test]
+fn adaptation_past_max_vertices_fails_the_run() {
+    for strategy in ["remesh", "simnett", "bisect48"] {
+        let loaded = scene(
+            "sphere",
+            &[
+                "time.duration=0.2",
+                "cloth.center=[0.0, 0.0, 0.26]",
+                &format!("adaptivity.strategy=\"{strategy}\""),
+                "adaptivity.l_min=1e-9",
+                "adaptivity.max_vertices=30",
+            ],
+        );
+        let dir = tempfile::tempdir().unwrap();
+        let (sim, summary) = run_into(&loaded, dir.path());
+        assert_eq!(summary.status, RunStatus::Failed, "{strategy}");
+        assert!(
+            summary
+                .message
+                .contains("above adaptivity.max_vertices = 30"),
+            "{strategy}: {}",
+            summary.message
+        );
+        assert!(sim.cloth.mesh.vertex_count() > 30);
+        assert!(dir.path().join("metrics.csv").is_file());
+    }
 }
 
 /// Every adaptive strategy on every source scene, started just above the obstacle so contact

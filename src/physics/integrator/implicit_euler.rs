@@ -35,12 +35,19 @@ use crate::math::{Mat3, Real, Vec3};
 use crate::physics::forces::bend_modes;
 use crate::physics::ForceModel;
 use crate::physics::SpringMode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+/// CG iterations between two looks at the interrupt flag.
+const INTERRUPT_CHECK: usize = 16;
 
 /// Linearised backward Euler solved by block-Jacobi preconditioned conjugate gradients.
 #[derive(Clone, Debug)]
 pub struct ImplicitEuler {
     tolerance: Real,
     max_iterations: usize,
+    /// Set when the run is interrupted: CG stops at its next check.
+    interrupt: Option<Arc<AtomicBool>>,
     f: Vec<Vec3>,
     stiff: Vec<Mat3>,
     block: Vec<Mat3>,
@@ -63,6 +70,7 @@ impl ImplicitEuler {
         ImplicitEuler {
             tolerance,
             max_iterations,
+            interrupt: None,
             f: Vec::new(),
             stiff: Vec::new(),
             block: Vec::new(),
@@ -84,6 +92,10 @@ impl ImplicitEuler {
 impl Integrator for ImplicitEuler {
     fn name(&self) -> &'static str {
         "implicit_euler"
+    }
+
+    fn set_interrupt(&mut self, flag: Arc<AtomicBool>) {
+        self.interrupt = Some(flag);
     }
 
     fn advance(&mut self, dynamics: &dyn Dynamics, Step { t, dt, x, v }: Step) -> StepStats {
@@ -248,6 +260,14 @@ impl ImplicitEuler {
         let mut rz = dot(&self.r, &self.z);
         let mut iterations = 0;
         while iterations < self.max_iterations {
+            let interrupted = || {
+                self.interrupt
+                    .as_ref()
+                    .is_some_and(|f| f.load(Ordering::Relaxed))
+            };
+            if iterations % INTERRUPT_CHECK == 0 && interrupted() {
+                break;
+            }
             iterations += 1;
             self.apply(model);
             let pq = dot(&self.p, &self.q);
