@@ -50,10 +50,11 @@ pub enum Command {
     /// Run the stability suite (bisection of the largest stable step, hard cases for every built
     /// strategy) and write its report.
     Stability {
-        /// Report file.
-        #[arg(long, default_value = "docs/stability.md")]
-        out: PathBuf,
-        /// Small sizes (the test sizes): a quick look, not the report.
+        /// Report file. Default: docs/stability.md, or out/stability-quick.md with --quick.
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Small sizes (the test sizes): a quick look, not the report (never written to docs/
+        /// unless --out says so).
         #[arg(long)]
         quick: bool,
     },

@@ -92,7 +92,7 @@ pub fn execute(command: Command) -> Result<(), CliError> {
         Command::Merge(a) => compare::merge(a),
         Command::Report(a) => compare::report(a),
         Command::Integrators { write_docs, docs } => suites::integrators(write_docs, &docs),
-        Command::Stability { out, quick } => suites::stability(&out, quick),
+        Command::Stability { out, quick } => suites::stability(out.as_deref(), quick),
     }
 }
 

@@ -26,8 +26,10 @@ pub fn integrators(write_docs: bool, docs: &Path) -> Result<(), CliError> {
     write_report_file(docs, &new)
 }
 
-/// `adaptcloth stability`: the stability suite, its report written to `out`.
-pub fn stability(out: &Path, quick: bool) -> Result<(), CliError> {
+/// `adaptcloth stability`: the stability suite, its report written to `out` (default
+/// `docs/stability.md`, or `out/stability-quick.md` with `quick`, so a quick look never replaces
+/// the report in `docs/`). Fails (exit 1) when a hard case failed, after writing the report.
+pub fn stability(out: Option<&Path>, quick: bool) -> Result<(), CliError> {
     let (search, sizes) = if quick {
         let search = Search {
             resolution: 5,
@@ -39,6 +41,19 @@ pub fn stability(out: &Path, quick: bool) -> Result<(), CliError> {
     } else {
         (REPORT_SEARCH, CaseSizes::REPORT)
     };
-    let md = stability::report(&search, &sizes, |s| eprintln!("adaptcloth stability: {s}"));
-    write_report_file(out, &md)
+    let out = out.unwrap_or(Path::new(if quick {
+        "out/stability-quick.md"
+    } else {
+        "docs/stability.md"
+    }));
+    let suite = stability::report(&search, &sizes, |s| eprintln!("adaptcloth stability: {s}"));
+    write_report_file(out, &suite.markdown)?;
+    if suite.failed > 0 {
+        return Err(CliError::Failed(format!(
+            "{} stability case(s) failed (see {})",
+            suite.failed,
+            out.display()
+        )));
+    }
+    Ok(())
 }

@@ -500,3 +500,33 @@ fn errors_name_the_key_and_its_own_line() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn stability_quick_writes_outside_docs_and_its_exit_status_says_whether_a_case_failed() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .args(["stability", "--quick"])
+        .current_dir(dir.path())
+        .output()
+        .expect("binary runs");
+    let report = dir.path().join("out/stability-quick.md");
+    assert!(report.is_file(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        !dir.path().join("docs").exists(),
+        "--quick wrote into docs/"
+    );
+    let text = std::fs::read_to_string(report).unwrap();
+    // The report ends with "N case(s) failed. Suite wall time ...".
+    let failed: usize = text
+        .lines()
+        .find(|l| l.contains(" case(s) failed."))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|n| n.parse().ok())
+        .expect("the report counts its failures");
+    let code = out.status.code().unwrap_or(-1);
+    assert_eq!(
+        code,
+        if failed > 0 { 1 } else { 0 },
+        "{failed} failed, exit {code}"
+    );
+}

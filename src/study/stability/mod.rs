@@ -248,8 +248,17 @@ pub const REPORT_SEARCH: Search = Search {
     iterations: 6,
 };
 
-/// Runs the whole suite and returns `docs/stability.md`; `progress` hears about each piece.
-pub fn report(search: &Search, sizes: &CaseSizes, mut progress: impl FnMut(&str)) -> String {
+/// The suite's report: `docs/stability.md`'s text and how many hard cases failed.
+#[derive(Clone, Debug)]
+pub struct SuiteReport {
+    /// The report (markdown).
+    pub markdown: String,
+    /// Hard cases that failed their criterion.
+    pub failed: usize,
+}
+
+/// Runs the whole suite and returns its report; `progress` hears about each piece.
+pub fn report(search: &Search, sizes: &CaseSizes, mut progress: impl FnMut(&str)) -> SuiteReport {
     let started = Instant::now();
     let strategies = built_strategies();
     let mut md = String::from(
@@ -342,5 +351,8 @@ pub fn report(search: &Search, sizes: &CaseSizes, mut progress: impl FnMut(&str)
         "\n{failed} case(s) failed. Suite wall time {:.0} s.\n",
         started.elapsed().as_secs_f64()
     );
-    md
+    SuiteReport {
+        markdown: md,
+        failed,
+    }
 }
