@@ -1,7 +1,7 @@
 //! `docs/results.md`: the comparisons of several scenes on one page, with the summary of
 //! speed-ups, each scene's table, reading, profile and plots, and the source's own timings.
 
-use super::reading::{reading, summary};
+use super::reading::{curves, integrators, reading, summary};
 use super::tables::{profile, settings, table};
 use super::{io_err, ReportError};
 use crate::study::Comparison;
@@ -78,6 +78,7 @@ pub fn write_docs(
         }
         let _ = writeln!(md, "### Reading\n\n{}", reading(c));
         let _ = writeln!(md, "### Where the time goes\n\n{}", profile(c));
+        md += &error_maps(out, c, &dest)?;
         for name in [
             "speed_error",
             "speed_hausdorff",
@@ -106,4 +107,90 @@ pub fn write_docs(
     let path = docs_dir.join("results.md");
     crate::io::write_atomic(&path, md.as_bytes()).map_err(io_err(&path))?;
     Ok(path)
+}
+
+/// "Where the error is": under the comparison's first integrator, the error map of the finest
+/// static run and of each adaptive strategy's most accurate run (any series), copied from the
+/// run folders to `dest` (markdown; empty when no run has a map).
+fn error_maps(out: &Path, c: &Comparison, dest: &Path) -> Result<String, ReportError> {
+    let Some(integrator) = integrators(c).first().copied() else {
+        return Ok(String::new());
+    };
+    let mut picked: Vec<&crate::study::Row> = Vec::new();
+    for k in curves(c, integrator) {
+        let best = if k.is_static() {
+            k.rows.iter().max_by_key(|r| r.resolution)
+        } else {
+            k.rows.iter().min_by(|a, b| a.e_rms.total_cmp(&b.e_rms))
+        };
+        let Some(&best) = best else { continue };
+        match picked.iter_mut().find(|r| r.strategy == best.strategy) {
+            Some(r) if best.e_rms < r.e_rms && !k.is_static() => *r = best,
+            Some(_) => {}
+            None => picked.push(best),
+        }
+    }
+    let mut md = String::new();
+    for r in picked {
+        let from = out.join("runs").join(&r.label).join("error_map.png");
+        if !from.is_file() {
+            continue;
+        }
+        let name = format!("error_map-{}.png", r.label);
+        std::fs::copy(&from, dest.join(&name)).map_err(io_err(&from))?;
+        let _ = writeln!(
+            md,
+            "![{scene} error map {label}](results/{scene}/{name})\n",
+            scene = c.manifest.scene,
+            label = r.label
+        );
+    }
+    if md.is_empty() {
+        return Ok(md);
+    }
+    Ok(format!(
+        "### Where the error is\n\nThe material-point error `e(u, v)` over the pattern at a few \
+         times, with the mesh, under `{integrator}`: the finest static grid and each adaptive \
+         strategy's most accurate run.\n\n{md}"
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::reading::tests::run;
+
+    #[test]
+    fn error_maps_show_the_finest_static_grid_and_each_strategys_most_accurate_run() {
+        let dir = tempfile::tempdir().unwrap();
+        let rows = [
+            run("static", "static", 17, 10.0, 2e-2),
+            run("static", "static", 33, 100.0, 1e-2),
+            run("bisect48", "bisect48", 5, 2.0, 3e-2),
+            run("bisect48_sizing", "bisect48", 9, 4.0, 2.5e-2),
+            run("remesh", "remesh", 5, 3.0, 4e-2),
+        ];
+        for r in &rows {
+            let folder = dir.path().join("runs").join(&r.label);
+            std::fs::create_dir_all(&folder).unwrap();
+            std::fs::write(folder.join("error_map.png"), r.label.as_bytes()).unwrap();
+        }
+        let c = Comparison {
+            manifest: crate::study::table::tests::manifest(),
+            rows: rows.to_vec(),
+        };
+        let dest = dir.path().join("docs");
+        std::fs::create_dir_all(&dest).unwrap();
+        let md = error_maps(dir.path(), &c, &dest).unwrap();
+        let shown: Vec<&str> = md.lines().filter_map(|l| l.strip_prefix("![")).collect();
+        assert_eq!(shown.len(), 3, "{md}");
+        for label in ["static-33-rk4", "bisect48_sizing-9-rk4", "remesh-5-rk4"] {
+            assert!(
+                md.contains(&format!("error_map-{label}.png")),
+                "{label}: {md}"
+            );
+            let copied = std::fs::read(dest.join(format!("error_map-{label}.png"))).unwrap();
+            assert_eq!(copied, label.as_bytes());
+        }
+    }
 }
