@@ -31,6 +31,19 @@ pub fn flat_cloth(n: usize, offset: Vec3) -> Cloth {
     cloth(mesh, x)
 }
 
+/// The flat `n` x `n` grid of [`flat_cloth`] folded by 90 degrees along `u = 0.5`: the half
+/// `u > 0.5` stands up along +z.
+pub fn folded_cloth(n: usize) -> Cloth {
+    let mut cloth = flat_cloth(n, Vec3::zeros());
+    for v in cloth.mesh.vertices().collect::<Vec<_>>() {
+        let p = cloth.mesh.rest(v);
+        if p.x > 0.5 {
+            cloth.x[v.0 as usize] = Vec3::new(0.5, p.y, p.x - 0.5);
+        }
+    }
+    cloth
+}
+
 /// These obstacles with the default contact parameters.
 pub fn obstacles(list: &[Obstacle]) -> Obstacles {
     Obstacles::build(list, &ContactParams::default()).expect("valid test obstacles")

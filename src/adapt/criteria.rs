@@ -354,13 +354,7 @@ mod tests {
     #[test]
     fn fold_is_refined_for_curvature_and_the_limit_grows_as_faces_shrink() {
         // Fold a 5x5 grid by 90 degrees along the line u = 0.5.
-        let mut cloth = flat_cloth(5, 0.0);
-        for v in cloth.mesh.vertices().collect::<Vec<_>>() {
-            let p = cloth.mesh.rest(v);
-            if p.x > 0.5 {
-                cloth.x[v.0 as usize] = Vec3::new(0.5, p.y, p.x - 0.5);
-            }
-        }
+        let cloth = testing::folded_cloth(5);
         let sel = select(&cloth, &no_obstacles(), &spec(), &NoHistory);
         let fold: Vec<_> = sel
             .refine

@@ -215,6 +215,18 @@ mod tests {
         r
     }
 
+    /// The edge on the border `v = 0` whose rest midpoint is at `u = mid_u`.
+    fn edge_on_v0(cloth: &Cloth, mid_u: Real) -> EdgeKey {
+        let mesh = &cloth.mesh;
+        mesh.edges()
+            .map(|(e, _)| e)
+            .find(|e| {
+                let (a, b) = (mesh.rest(e.0), mesh.rest(e.1));
+                a.y == 0.0 && b.y == 0.0 && (a.x + b.x - 2.0 * mid_u).abs() < 1e-9
+            })
+            .expect("a border edge there")
+    }
+
     /// The size of edge `e` in `cloth` under `spec` without obstacles.
     fn size_of(cloth: &Cloth, spec: &AdaptParams, e: EdgeKey) -> EdgeSize {
         let fields = Fields::new(cloth, &no_obstacles(), spec);
@@ -267,13 +279,7 @@ mod tests {
     #[test]
     fn a_fold_is_refined_for_curvature_along_the_fold_only() {
         // Fold a 5x5 grid by 90 degrees along u = 0.5.
-        let mut cloth = testing::flat_cloth(5, Vec3::zeros());
-        for v in cloth.mesh.vertices().collect::<Vec<_>>() {
-            let p = cloth.mesh.rest(v);
-            if p.x > 0.5 {
-                cloth.x[v.0 as usize] = Vec3::new(0.5, p.y, p.x - 0.5);
-            }
-        }
+        let cloth = testing::folded_cloth(5);
         let sel = select_by_size(&cloth, &no_obstacles(), &spec(), &NoHistory);
         assert!(sel
             .refine
@@ -287,15 +293,7 @@ mod tests {
         }
         // The size across the fold: an edge from u = 0.25 to 0.5 at v = 0 sees the normals
         // turn by less than 90 degrees (vertex normals average the faces), more than 0.25 rad.
-        let mesh = &cloth.mesh;
-        let e = mesh
-            .edges()
-            .map(|(e, _)| e)
-            .find(|e| {
-                let (a, b) = (mesh.rest(e.0), mesh.rest(e.1));
-                a.y == 0.0 && b.y == 0.0 && (a.x + b.x - 0.75).abs() < 1e-9
-            })
-            .unwrap();
+        let e = edge_on_v0(&cloth, 0.375);
         let size = size_of(&cloth, &spec(), e);
         assert_eq!(size.reason, RefineReason::Curvature);
         assert!(size.target < 0.25 && size.target >= 0.025, "{size:?}");
@@ -337,16 +335,8 @@ mod tests {
     #[test]
     fn a_squeezed_edge_is_refined_to_anticipate_buckling() {
         let mut cloth = testing::flat_cloth(5, Vec3::zeros());
-        let mesh = &cloth.mesh;
         // The edge from (0, 0) to (0.25, 0): squeeze it by 8 % (move its end, not its neighbours').
-        let e = mesh
-            .edges()
-            .map(|(e, _)| e)
-            .find(|e| {
-                let (a, b) = (mesh.rest(e.0), mesh.rest(e.1));
-                a.y == 0.0 && b.y == 0.0 && (a.x + b.x - 0.25).abs() < 1e-9
-            })
-            .unwrap();
+        let e = edge_on_v0(&cloth, 0.125);
         let (a, b) = (e.0 .0 as usize, e.1 .0 as usize);
         let (ra, rb) = (cloth.mesh.rest(e.0), cloth.mesh.rest(e.1));
         let towards = if ra.x < rb.x { b } else { a };
@@ -402,13 +392,7 @@ mod tests {
     #[test]
     fn no_edge_is_refined_below_the_floor() {
         // Strong fold, but h_min = 0.2: a 5x5 grid's 0.25 m edges have halves below 0.2 m.
-        let mut cloth = testing::flat_cloth(5, Vec3::zeros());
-        for v in cloth.mesh.vertices().collect::<Vec<_>>() {
-            let p = cloth.mesh.rest(v);
-            if p.x > 0.5 {
-                cloth.x[v.0 as usize] = Vec3::new(0.5, p.y, p.x - 0.5);
-            }
-        }
+        let cloth = testing::folded_cloth(5);
         let s = AdaptParams {
             h_min: 0.2,
             ..spec()
