@@ -20,14 +20,17 @@ fn speedup(statics: Option<&super::reading::Curve>, r: &Row) -> (String, f64) {
     }
 }
 
-/// The ranked tables of a comparison, one per integrator.
+/// The ranked tables of a comparison, one per integrator: the runs of the strategies that adapt
+/// (the static runs are the baseline, listed after them), then what the cells mean.
 pub fn ranking(c: &Comparison) -> String {
+    let floor = c.manifest.reference.floor.e_rms;
     let mut s = String::new();
     for integrator in integrators(c) {
         let all = curves(c, integrator);
         let statics = all.iter().find(|k| k.is_static());
         let mut rows: Vec<(&Row, String, f64)> = all
             .iter()
+            .filter(|k| !k.is_static())
             .flat_map(|k| k.rows.iter().copied())
             .map(|r| {
                 let (cell, key) = speedup(statics, r);
@@ -55,9 +58,14 @@ pub fn ranking(c: &Comparison) -> String {
             "#", "run", "strategy", "wall (s)", "e_rms (m)"
         );
         for (i, (r, cell, _)) in rows.iter().enumerate() {
+            let flag = if r.e_rms < 2.0 * floor {
+                "  (not resolved)"
+            } else {
+                ""
+            };
             let _ = writeln!(
                 s,
-                "  {:>2}  {:<width$}  {:<8}  {:>8}  {:>9}  {cell}",
+                "  {:>2}  {:<width$}  {:<8}  {:>8}  {:>9}  {cell}{flag}",
                 i + 1,
                 r.label,
                 r.strategy,
@@ -65,7 +73,27 @@ pub fn ranking(c: &Comparison) -> String {
                 fmt_e(r.e_rms),
             );
         }
+        if let Some(k) = statics {
+            let mut by_grid = k.rows.clone();
+            by_grid.sort_by_key(|r| r.resolution);
+            let list: Vec<String> = by_grid
+                .iter()
+                .map(|r| {
+                    let n = r.resolution;
+                    format!("{n}x{n} {} m in {} s", fmt_e(r.e_rms), fmt_s(r.wall_s))
+                })
+                .collect();
+            let _ = writeln!(s, "  static baseline: {}", list.join(", "));
+        }
     }
+    let _ = writeln!(
+        s,
+        "  speed-up: the static mesh's time for the run's e_rms (interpolated between static \
+         grids) over the run's time; \"<=\": less accurate than the fastest static run, an upper \
+         bound. Not resolved: e_rms within 2x of the reference's floor ({} m). Sub-second wall \
+         times vary by tens of percent between runs.",
+        fmt_e(floor)
+    );
     s
 }
 
@@ -92,12 +120,15 @@ mod tests {
         let text = ranking(&c);
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[0].contains("with rk4"), "{text}");
+        // The adaptive runs are ranked; the static runs are the baseline line after them.
         assert!(
             lines[2].contains("bisect48-5-rk4") && lines[2].ends_with("x5.00"),
             "{text}"
         );
-        assert!(lines.last().unwrap().contains("remesh-5-rk4"), "{text}");
-        assert!(lines.last().unwrap().ends_with("x0.50"), "{text}");
-        assert_eq!(lines.len(), 2 + rows.len(), "{text}");
+        assert!(lines[3].contains("remesh-5-rk4"), "{text}");
+        assert!(lines[3].ends_with("x0.50"), "{text}");
+        assert!(lines[4].starts_with("  static baseline: 9x9"), "{text}");
+        assert!(lines[5].contains("upper bound"), "{text}");
+        assert_eq!(lines.len(), 6, "{text}");
     }
 }

@@ -135,14 +135,16 @@ fn the_first_command_prints_the_ranked_table_of_the_four_strategies() {
         String::from_utf8_lossy(&out.stderr)
     );
     assert!(stdout.contains("ranked by speed-up"), "{stdout}");
-    for strategy in ["static", "bisect48", "simnett", "remesh"] {
+    for strategy in ["bisect48", "simnett", "remesh"] {
         assert!(
             stdout.contains(&format!("  {strategy} ")),
             "{strategy}: {stdout}"
         );
     }
-    // Nine runs, numbered.
-    assert!(stdout.contains("\n   9  "), "{stdout}");
+    // The six adaptive runs ranked, the three static grids as the baseline.
+    assert!(stdout.contains("\n   6  "), "{stdout}");
+    assert!(!stdout.contains("\n   7  "), "{stdout}");
+    assert!(stdout.contains("static baseline: 5x5"), "{stdout}");
     assert!(dir.path().join("quick/sphere/report.html").is_file());
     assert!(stdout.contains("report.html"), "{stdout}");
 }
