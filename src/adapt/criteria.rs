@@ -192,7 +192,7 @@ pub fn select_source(
 }
 
 /// True when an edge of the given age may be simplified under the hysteresis `t_simplify`.
-fn old_enough(age: Option<Real>, threshold: Real) -> bool {
+pub(super) fn old_enough(age: Option<Real>, threshold: Real) -> bool {
     age.is_none_or(|a| a >= threshold)
 }
 

@@ -20,7 +20,7 @@
 //! `2 L0 (1 + SIZE_HYSTERESIS) <= h*` (a merge doubles edges), `L0 <= l_max` and it is old
 //! enough (`t_simplify`). The smoothing rule (4.19) of the source criteria then applies unchanged.
 
-use super::criteria::{smooth, vertex_normals, EdgeInfo, RefineReason, Selection};
+use super::criteria::{old_enough, smooth, vertex_normals, EdgeInfo, RefineReason, Selection};
 use super::AdaptParams;
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
@@ -176,7 +176,7 @@ pub fn select_by_size(
             refine.push((e, size.reason));
         } else if 2.0 * rest * (1.0 + SIZE_HYSTERESIS) <= size.target
             && rest <= spec.l_max
-            && info.age(e).is_none_or(|a| a >= spec.t_simplify)
+            && old_enough(info.age(e), spec.t_simplify)
         {
             simplify.push(e);
         }

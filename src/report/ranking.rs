@@ -100,7 +100,7 @@ pub fn ranking(c: &Comparison) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::reading::tests::run;
+    use crate::report::reading::tests::{comparison, run};
 
     #[test]
     fn runs_are_ranked_by_their_speed_up_at_equal_error() {
@@ -113,10 +113,7 @@ mod tests {
             // Reaches 1e-2 in 200 s where static needs 100 s: x0.5.
             run("remesh", "remesh", 5, 200.0, 1e-2),
         ];
-        let c = Comparison {
-            manifest: crate::study::table::tests::manifest(),
-            rows: rows.to_vec(),
-        };
+        let c = comparison(&rows);
         let text = ranking(&c);
         let lines: Vec<&str> = text.lines().collect();
         assert!(lines[0].contains("with rk4"), "{text}");

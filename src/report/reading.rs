@@ -420,6 +420,14 @@ pub(crate) mod tests {
         }
     }
 
+    /// A comparison of these rows under the test manifest.
+    pub(crate) fn comparison(rows: &[Row]) -> Comparison {
+        Comparison {
+            manifest: crate::study::table::tests::manifest(),
+            rows: rows.to_vec(),
+        }
+    }
+
     #[test]
     fn curves_reach_errors_by_interpolation_and_say_when_they_cannot() {
         let rows = [
@@ -429,10 +437,7 @@ pub(crate) mod tests {
             run("bisect48", "bisect48", 5, 2.0, 3e-2),
             run("bisect48", "bisect48", 5, 20.0, 1e-2),
         ];
-        let c = Comparison {
-            manifest: crate::study::table::tests::manifest(),
-            rows: rows.to_vec(),
-        };
+        let c = comparison(&rows);
         let all = curves(&c, "rk4");
         assert_eq!(all.len(), 2);
         assert!(all[0].is_static());

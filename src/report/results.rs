@@ -162,7 +162,7 @@ fn error_maps(out: &Path, c: &Comparison, dest: &Path) -> Result<String, ReportE
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::report::reading::tests::run;
+    use crate::report::reading::tests::{comparison, run};
 
     #[test]
     fn error_maps_show_static_33_and_each_strategys_most_accurate_run() {
@@ -180,10 +180,7 @@ mod tests {
             std::fs::create_dir_all(&folder).unwrap();
             std::fs::write(folder.join("error_map.png"), r.label.as_bytes()).unwrap();
         }
-        let c = Comparison {
-            manifest: crate::study::table::tests::manifest(),
-            rows: rows.to_vec(),
-        };
+        let c = comparison(&rows);
         let dest = dir.path().join("docs");
         std::fs::create_dir_all(&dest).unwrap();
         let md = error_maps(dir.path(), &c, &dest).unwrap();

@@ -314,7 +314,6 @@ impl Simulation {
                 if round.vertices_added == 0 || over_cap {
                     break;
                 }
-                self.cloth.refresh_state_len();
             }
             total
         } else {
