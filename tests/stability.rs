@@ -1,38 +1,67 @@
 //! The stability suite at small sizes: every hard case of `docs/stability.md` with its pass
-//! criterion asserted for the static strategy and run (failures printed) for every other built
-//! strategy, plus bracketing checks of the largest stable step. The full-size report is `adaptcloth stability`.
+//! criterion asserted for every built strategy (the few known failures listed with their
+//! cause), plus bracketing checks of the largest stable step. The full-size report is `adaptcloth stability`.
 use adaptcloth::study::stability::{self, CaseSizes, Search};
 
-/// The hard cases must pass for the static strategy (the issue's acceptance); they also run for
-/// every other built strategy, whose failures are printed here and reported in
-/// `docs/stability.md` (`adaptcloth stability`), not hidden.
+/// Hard cases still failing, each with its cause and the issue that covers it: `(case, strategy,
+/// integrator, why)`. Every other case must pass for every built strategy, and a listed case
+/// that starts passing fails this test until it is removed from the list.
+const KNOWN_FAILURES: [(&str, &str, &str, &str); 3] = [
+    (
+        "long run",
+        "remesh",
+        "rk4",
+        "remesh's edits inject energy on the long hanging run (issue 15, item 7)",
+    ),
+    (
+        "long run",
+        "remesh",
+        "implicit_euler",
+        "remesh's edits inject energy on the long hanging run (issue 15, item 7)",
+    ),
+    (
+        "high-speed impact on the sphere",
+        "remesh",
+        "implicit_euler",
+        "only vertices collide: coarse faces pass through the sphere (issue 12)",
+    ),
+];
+
+/// The hard cases pass for every built strategy, but for the [`KNOWN_FAILURES`].
 #[test]
-fn hard_cases_pass_for_static_and_run_for_every_built_strategy() {
+fn hard_cases_pass_for_every_built_strategy() {
     let strategies = stability::built_strategies();
     assert!(strategies.contains(&"static"));
-    let mut static_failures = Vec::new();
+    let mut unexpected = Vec::new();
+    let mut known_seen = Vec::new();
     let mut ran = 0;
     for strategy in strategies {
         for c in stability::hard_cases(strategy, &CaseSizes::QUICK) {
             ran += 1;
-            if c.passed {
-                continue;
-            }
-            let line = format!(
-                "{} / {} / {}: {} -- measured: {}",
-                c.case, c.strategy, c.integrator, c.criterion, c.measured
-            );
-            if strategy == "static" {
-                static_failures.push(line);
-            } else {
-                eprintln!(
-                    "FAILED for an adaptive strategy (reported in docs/stability.md): {line}"
-                );
+            let known = KNOWN_FAILURES
+                .iter()
+                .find(|k| (k.0, k.1, k.2) == (c.case, c.strategy.as_str(), c.integrator.as_str()));
+            match (c.passed, known) {
+                (true, None) => {}
+                (true, Some(k)) => unexpected.push(format!(
+                    "{} / {} / {} now passes: remove it from KNOWN_FAILURES",
+                    k.0, k.1, k.2
+                )),
+                (false, Some(k)) => {
+                    known_seen.push(format!("{} / {} / {}: {}", k.0, k.1, k.2, k.3))
+                }
+                (false, None) => unexpected.push(format!(
+                    "{} / {} / {}: {} -- measured: {}",
+                    c.case, c.strategy, c.integrator, c.criterion, c.measured
+                )),
             }
         }
     }
+    for line in &known_seen {
+        eprintln!("known failure (reported in docs/stability.md): {line}");
+    }
     assert!(ran > 0);
-    assert!(static_failures.is_empty(), "{}", static_failures.join("\n"));
+    assert!(unexpected.is_empty(), "{}", unexpected.join("\n"));
 }
 
 #[test]

@@ -97,6 +97,15 @@ pub trait Integrator: Send {
     /// slots' velocities are zero; `x` and `v` have the same length.
     fn advance(&mut self, dynamics: &dyn Dynamics, step: Step<'_>) -> StepStats;
 
+    /// The scheme's stability limit on the linear damped system: the largest `dt r` on a decay
+    /// rate `r` and `dt w` on an oscillation of frequency `w` (the smaller of its real- and
+    /// imaginary-axis limits), which caps dynamic steps ([`crate::physics::StabilityLimit`]).
+    /// `None` for a scheme stable at any step (`implicit_euler`). Default: 2 (explicit Euler's
+    /// real-axis limit, leapfrog's imaginary one).
+    fn stability_limit(&self) -> Option<Real> {
+        Some(2.0)
+    }
+
     /// Lets a long step end early once `flag` is set (a run being interrupted: that step's
     /// result is then inexact, and the run stops after it). Default: ignored, for integrators
     /// whose step has no long inner loop; `implicit_euler` checks it between CG iterations.

@@ -26,4 +26,5 @@ pub use integrator::{
     integrator_named, make_integrator, Dynamics, Euler, EulerKind, ImplicitEuler, Integrator, Rk4,
     Step, StepStats, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
 };
+pub use limits::{StabilityLimit, ITERATIONS_AFTER_EDIT, STEPS_PER_ITERATION};
 pub use params::{Forces, IntegratorParams, Material, SpringMode, StiffnessModel};

@@ -17,7 +17,10 @@ use crate::cloth::Cloth;
 use crate::collision::{ContactStats, Obstacles};
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{Barycentric, RestLocator};
-use crate::physics::{make_integrator, Integrator, StepStats};
+use crate::physics::{
+    make_integrator, Integrator, StabilityLimit, StepStats, ITERATIONS_AFTER_EDIT,
+    STEPS_PER_ITERATION,
+};
 use crate::scene::{LoadedScene, Scene, TimeMode, MAX_STEPS};
 use crate::strategies::make_strategy;
 use std::time::{Duration, Instant};
@@ -105,8 +108,9 @@ pub struct Simulation {
     locator: RestLocator,
     contact_seen: bool,
     x_start: Vec<Vec3>,
-    /// `ForceModel::damping_step_limit` (s) and the mesh version it was computed for.
-    damping_limit: (u64, Real),
+    /// The stability limit the dynamic step formula does not see (damping, bending) and the mesh
+    /// version it was last updated on (dynamic steps of explicit integrators only).
+    stability: (u64, StabilityLimit),
     /// Simulated time (s) of the last adaptation pass, for `adaptivity.interval`.
     last_adapt: Option<Real>,
     /// Driven pinned vertices (slot, prescribed velocity in m/s), from `cloth.pinned_velocity`.
@@ -155,7 +159,7 @@ impl Simulation {
             locator,
             contact_seen: false,
             x_start: Vec::new(),
-            damping_limit: (u64::MAX, Real::INFINITY),
+            stability: (u64::MAX, StabilityLimit::default()),
             last_adapt: None,
             drivers,
             stage_times: StageTimes::default(),
@@ -180,26 +184,29 @@ impl Simulation {
 
     /// The step the next call of [`Simulation::step`] will take (s), MODEL.md §4: fixed, or
     /// `beta pi sqrt(m_min / k_max)` clamped to `[dt_min, dt_max]`, with `dt_initial` until the
-    /// first contact. The seed's fixed `dt_initial` ignores the mesh: it is capped by the spring
-    /// damping's stability limit ([`ForceModel::damping_step_limit`], see docs/model-notes.md),
-    /// without which `dt_initial = 1e-4` diverges on grids of 33 x 33 and finer.
-    ///
-    /// [`ForceModel::damping_step_limit`]: crate::physics::ForceModel::damping_step_limit
+    /// first contact. For explicit integrators both are also capped by the stability limit of
+    /// the damping and bending ([`StabilityLimit`], see docs/model-notes.md), which the formula
+    /// does not see: it binds on light (refined) vertices, on crumpled elements and on
+    /// `dt_initial = 1e-4` at 33 x 33 and finer.
     pub fn next_dt(&self) -> Real {
-        self.dt_for(self.contact_seen, self.damping_limit.1)
+        self.dt_for(self.contact_seen, &self.stability.1)
     }
 
     /// The step (s) [`Simulation::next_dt`] gives on the current mesh, before or after the first
-    /// contact, with the spring damping's step limit `damping_limit` (s).
-    fn dt_for(&self, contact_seen: bool, damping_limit: Real) -> Real {
+    /// contact, capped by the estimates of `stability` for this integrator.
+    fn dt_for(&self, contact_seen: bool, stability: &StabilityLimit) -> Real {
         let time = &self.scene.time;
         if time.mode == TimeMode::Fixed {
             return time.dt;
         }
+        let limit = self
+            .integrator
+            .stability_limit()
+            .map_or(Real::INFINITY, |axis| stability.step_limit(axis));
         if time.dt_initial > 0.0 && !contact_seen {
-            return time.dt_initial.min(damping_limit);
+            return time.dt_initial.min(limit);
         }
-        let mut dt = self.cloth.model.stable_step(time.beta);
+        let mut dt = self.cloth.model.stable_step(time.beta).min(limit);
         if time.dt_max > 0.0 {
             dt = dt.min(time.dt_max);
         }
@@ -209,50 +216,83 @@ impl Simulation {
         dt
     }
 
-    /// The run's step count estimated on the cloth as built: `(duration / dt, dt)` with `dt` (s)
-    /// the smaller of the first step and the dynamic step after the first contact.
-    pub fn step_estimate(&self) -> (Real, Real) {
-        let limit = self.cloth.model.damping_step_limit();
-        let dt = self.dt_for(false, limit).min(self.dt_for(true, limit));
-        (self.scene.time.duration / dt, dt)
+    /// The run's step count estimated on the cloth as built: `(duration / dt, dt, cap)` with `dt`
+    /// (s) the smaller of the first step and the dynamic step after the first contact, and `cap`
+    /// (s) the stability limit of the damping and bending for this integrator (infinite when it
+    /// does not apply).
+    pub fn step_estimate(&self) -> (Real, Real, Real) {
+        let mut stability = StabilityLimit::default();
+        stability.update(&self.cloth.model, &self.cloth.x, ITERATIONS_AFTER_EDIT);
+        let dt = self
+            .dt_for(false, &stability)
+            .min(self.dt_for(true, &stability));
+        let cap = self
+            .integrator
+            .stability_limit()
+            .map_or(Real::INFINITY, |axis| stability.step_limit(axis));
+        (self.scene.time.duration / dt, dt, cap)
+    }
+
+    /// Refines the stability limit for this step (dynamic steps of explicit integrators only):
+    /// [`ITERATIONS_AFTER_EDIT`] power iterations after a mesh change, one every
+    /// [`STEPS_PER_ITERATION`] steps otherwise, warm-started.
+    fn update_stability_limit(&mut self) {
+        if self.scene.time.mode == TimeMode::Fixed || self.integrator.stability_limit().is_none() {
+            return;
+        }
+        let version = self.cloth.mesh.version();
+        let iterations = if self.stability.0 != version {
+            ITERATIONS_AFTER_EDIT
+        } else if self.steps % STEPS_PER_ITERATION == 0 {
+            1
+        } else {
+            return;
+        };
+        self.stability.0 = version;
+        self.stability
+            .1
+            .update(&self.cloth.model, &self.cloth.x, iterations);
     }
 
     /// Fails when [`Simulation::step_estimate`] is above [`MAX_STEPS`] (or not a number): a run
     /// that could never finish (`material.E = 1e308`, `time.dt_initial = 1e-300`). The error
     /// gives the estimate and the quantities that set the step.
     pub fn check_step_estimate(&self) -> Result<(), SetupError> {
-        let (steps, dt) = self.step_estimate();
+        let (steps, dt, cap) = self.step_estimate();
         if steps <= MAX_STEPS {
             return Ok(());
         }
         let t = &self.scene.time;
         let model = &self.cloth.model;
+        let why = if t.mode == TimeMode::Fixed {
+            "The step is time.dt (time.mode = \"fixed\")".to_string()
+        } else {
+            format!(
+                "The step is time.beta = {} x pi x sqrt(smallest vertex mass {:.3e} kg / largest \
+                 spring stiffness {:.3e} N/m; set by material.E, material.rho, material.T and the \
+                 cloth's resolution), capped by the damping and bending stability limit \
+                 ({cap:.3e} s for this integrator; material.alpha, material.k_b) and clamped by \
+                 time.dt_min = {:e} s and time.dt_max = {:e} s, with time.dt_initial = {:e} s \
+                 until the first contact",
+                t.beta,
+                model.min_mass(),
+                model.max_stiffness(),
+                t.dt_min,
+                t.dt_max,
+                t.dt_initial
+            )
+        };
         Err(SetupError::TooManySteps(format!(
             "this run would take about {steps:.3e} steps of {dt:.3e} s over time.duration = {} s; \
-             at most {MAX_STEPS:e} are accepted (--force runs it anyway). The step is time.beta \
-             = {} x pi x sqrt(smallest vertex mass {:.3e} kg / largest spring stiffness {:.3e} \
-             N/m; set by material.E, material.rho, material.T and the cloth's resolution), \
-             clamped by time.dt_min = {:e} s and time.dt_max = {:e} s, with time.dt_initial = \
-             {:e} s until the first contact",
+             at most {MAX_STEPS:e} are accepted (--force runs it anyway). {why}",
             t.duration,
-            t.beta,
-            model.min_mass(),
-            model.max_stiffness(),
-            t.dt_min,
-            t.dt_max,
-            t.dt_initial
         )))
     }
 
     /// One step: integrate, collide, adapt. The step is cut so the run ends exactly at
     /// `duration`. Allocation-free in steady state (no mesh change).
     pub fn step(&mut self) -> Result<StepReport, StepError> {
-        if self.damping_limit.0 != self.cloth.mesh.version() {
-            self.damping_limit = (
-                self.cloth.mesh.version(),
-                self.cloth.model.damping_step_limit(),
-            );
-        }
+        self.update_stability_limit();
         let dt = self
             .next_dt()
             .min(self.scene.time.duration - self.t)

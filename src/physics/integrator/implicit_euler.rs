@@ -94,6 +94,10 @@ impl Integrator for ImplicitEuler {
         "implicit_euler"
     }
 
+    fn stability_limit(&self) -> Option<Real> {
+        None
+    }
+
     fn set_interrupt(&mut self, flag: Arc<AtomicBool>) {
         self.interrupt = Some(flag);
     }
@@ -190,7 +194,7 @@ impl ImplicitEuler {
                     continue;
                 };
                 let stiff = 0.5 * kb * m.elastic_scale;
-                let wgt = dt2 * stiff + dt * kbd * m.e_len;
+                let wgt = dt2 * stiff + dt * kbd * m.damping_scale;
                 let uv: Real = (0..4).map(|k| m.u[k].dot(&v[ids[k]])).sum();
                 for k in 0..4 {
                     self.precond[ids[k]] += m.u[k] * m.u[k].transpose() * wgt;

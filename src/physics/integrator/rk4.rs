@@ -5,7 +5,7 @@
 //! acceleration and the two weighted slope sums.
 
 use super::{fit, Dynamics, Integrator, Step, StepStats};
-use crate::math::Vec3;
+use crate::math::{Real, Vec3};
 
 /// Classic RK4: fourth order, four force evaluations per step.
 #[derive(Clone, Debug, Default)]
@@ -20,6 +20,11 @@ pub struct Rk4 {
 impl Integrator for Rk4 {
     fn name(&self) -> &'static str {
         "rk4"
+    }
+
+    /// RK4's real-axis limit (2.785; its imaginary-axis one is 2.828).
+    fn stability_limit(&self) -> Option<Real> {
+        Some(2.785)
     }
 
     fn advance(&mut self, dynamics: &dyn Dynamics, Step { t, dt, x, v }: Step) -> StepStats {
