@@ -5,14 +5,14 @@ use super::args::{
 };
 use super::{interrupt_flag, output_folder, read_input, show_progress, CliError};
 use crate::eval::reference::{self, ReferenceSettings};
-use crate::scene::{self, Overrides};
+use crate::scene::{self, Overrides, Setting};
 use crate::study::{self, CompareOptions, Comparison, ScenePlan, Shard, Study};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
 fn overrides(set: &[String], duration: Option<f64>) -> Overrides {
     Overrides {
-        set: set.to_vec(),
+        set: Setting::options(set),
         duration,
         ..Overrides::default()
     }
@@ -101,7 +101,7 @@ pub fn compare(args: CompareArgs) -> Result<(), CliError> {
         description: String::new(),
         source: "command line".into(),
         scenes: scene_names(&args),
-        set: args.set.clone(),
+        set: Setting::options(&args.set),
         duration: args.duration,
         reference: reference_settings(&args.reference)?,
         runs: study::parse_runs(&spec, &args.integrators)?,
