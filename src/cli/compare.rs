@@ -114,7 +114,7 @@ pub fn compare(args: CompareArgs) -> Result<(), CliError> {
         (None, 1) => PathBuf::from("out").join(format!("compare-{name}")),
         (None, _) => PathBuf::from("out").join("compare").join(name),
     };
-    let plans = study::plan(&definition, out)?;
+    let plans = study::plan(&definition, out, args.execution.force)?;
     let execution = Execution::new(
         &args.execution,
         &args.reference.cache,
@@ -148,7 +148,7 @@ pub fn study(args: StudyArgs) -> Result<(), CliError> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(format!("study-{}", definition.name)));
-    let plans = study::plan(&definition, |name| root.join(name))?;
+    let plans = study::plan(&definition, |name| root.join(name), args.execution.force)?;
     let execution = Execution::new(&args.execution, &args.cache, args.force_reference)?;
     if args.references_only {
         return references(&definition, &plans, &execution);

@@ -23,7 +23,9 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
     };
     let mut simulation = Simulation::new(&loaded).map_err(setup)?;
     if !args.force {
-        simulation.check_step_estimate().map_err(setup)?;
+        simulation
+            .check_step_estimate()
+            .map_err(|e| CliError::Input(format!("{}: {e}; {}", loaded.source, sim::FORCE_HINT)))?;
     }
     let out_dir = args.out.unwrap_or_else(|| {
         let name = format!("{}-{}", loaded.scene.name, simulation.strategy_name());

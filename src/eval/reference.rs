@@ -355,6 +355,15 @@ pub fn ensure_reference(
     }
     let reference_scene = static_variant(base, settings.resolution, settings);
     let floor_scene = static_variant(base, settings.floor_resolution, settings);
+    // A reference that could never finish is refused whatever the runs' `--force` says.
+    for (what, scene) in [("reference", &reference_scene), ("floor", &floor_scene)] {
+        Simulation::new(scene)?.check_step_estimate().map_err(|e| {
+            ReferenceError::Settings(format!(
+                "the {what} run of {} (not covered by --force): {e}",
+                base.source
+            ))
+        })?;
+    }
     let samples = Arc::new(sample_points(&reference_scene, settings.samples)?);
     std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
     let bar = |label: &str| progress.map(|m| crate::sim::labelled_bar(m, label));

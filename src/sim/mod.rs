@@ -19,6 +19,10 @@ use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{Barycentric, RestLocator};
 use crate::physics::{make_integrator, Integrator, StepStats};
 use crate::scene::{LoadedScene, Scene, TimeMode, MAX_STEPS};
+
+/// What `--force` does, said (by the commands that have it) after a refused step estimate
+/// ([`Simulation::check_step_estimate`]).
+pub const FORCE_HINT: &str = "--force runs it anyway";
 use crate::strategies::make_strategy;
 use std::time::{Duration, Instant};
 
@@ -229,11 +233,11 @@ impl Simulation {
         let model = &self.cloth.model;
         Err(SetupError::TooManySteps(format!(
             "this run would take about {steps:.3e} steps of {dt:.3e} s over time.duration = {} s; \
-             at most {MAX_STEPS:e} are accepted (--force runs it anyway). The step is time.beta \
-             = {} x pi x sqrt(smallest vertex mass {:.3e} kg / largest spring stiffness {:.3e} \
-             N/m; set by material.E, material.rho, material.T and the cloth's resolution), \
-             clamped by time.dt_min = {:e} s and time.dt_max = {:e} s, with time.dt_initial = \
-             {:e} s until the first contact",
+             at most {MAX_STEPS:e} are accepted. The step is time.beta = {} x pi x \
+             sqrt(smallest vertex mass {:.3e} kg / largest spring stiffness {:.3e} N/m; set by \
+             material.E, material.rho, material.T and the cloth's resolution), clamped by \
+             time.dt_min = {:e} s and time.dt_max = {:e} s, with time.dt_initial = {:e} s until \
+             the first contact",
             t.duration,
             t.beta,
             model.min_mass(),

@@ -526,7 +526,7 @@ sweep = { "adaptivity.l_min" = [0.08, 0.04], "adaptivity.max_depth" = [2, 3] }
     #[test]
     fn run_settings_reach_the_run_and_not_the_reference() {
         let s = parse(BASIC).unwrap();
-        let plans = crate::study::plan(&s, |n| Path::new("out").join(n)).unwrap();
+        let plans = crate::study::plan(&s, |n| Path::new("out").join(n), false).unwrap();
         let base = &plans[0].loaded;
         // The study-wide set reaches the base scene (and so the reference)...
         assert_eq!(base.scene.time.frame_rate, 30.0);
@@ -576,10 +576,10 @@ sweep = { "adaptivity.l_min" = [0.08, 0.04], "adaptivity.max_depth" = [2, 3] }
     #[test]
     fn a_bad_scene_key_in_a_run_is_caught_before_anything_runs() {
         let s = parse("scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\nset = { \"cloth.nokey\" = 1 }\n").unwrap();
-        let e = crate::study::plan(&s, |n| Path::new("out").join(n)).unwrap_err();
+        let e = crate::study::plan(&s, |n| Path::new("out").join(n), false).unwrap_err();
         assert!(e.to_string().contains("cloth.nokey"), "{e}");
         let s = parse("scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\nset = { \"time.dt\" = -1.0 }\n").unwrap();
-        let e = crate::study::plan(&s, |n| Path::new("out").join(n)).unwrap_err();
+        let e = crate::study::plan(&s, |n| Path::new("out").join(n), false).unwrap_err();
         assert!(e.to_string().contains("time.dt"), "{e}");
     }
 
@@ -597,12 +597,12 @@ sweep = { "adaptivity.l_min" = [0.08, 0.04], "adaptivity.max_depth" = [2, 3] }
         ];
         for (run, expected) in cases {
             let s = parse(&format!("{head}{run}")).unwrap();
-            let e = crate::study::plan(&s, |n| Path::new("out").join(n)).unwrap_err();
+            let e = crate::study::plan(&s, |n| Path::new("out").join(n), false).unwrap_err();
             assert!(e.to_string().starts_with(expected), "{run}: {e}");
         }
         // The study-wide `set` too.
         let s = parse("scenes = [\"sphere\"]\nset = { \"material.rho\" = 0 }\n[[runs]]\nstrategy = \"static\"\n").unwrap();
-        let e = crate::study::plan(&s, |n| Path::new("out").join(n)).unwrap_err();
+        let e = crate::study::plan(&s, |n| Path::new("out").join(n), false).unwrap_err();
         assert!(
             e.to_string()
                 .starts_with("s.toml:2: set.\"material.rho\" = 0: expected a finite value > 0"),

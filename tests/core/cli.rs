@@ -170,6 +170,78 @@ fn force_runs_a_run_refused_by_the_step_estimate() {
     assert!(summary.contains("\"status\": \"diverged\""), "{summary}");
 }
 
+/// `study --force` and `compare --force` run what the step estimate refuses, run by run; the
+/// reference is checked whatever `--force` says.
+#[test]
+fn study_and_compare_force_reaches_every_run_but_not_the_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("f.toml");
+    std::fs::write(
+        &file,
+        "scenes = [\"sphere\"]\nduration = 0.02\n[reference]\nresolution = 5\nfloor = 3\n\
+         samples = 4\n[[runs]]\nstrategy = \"static\"\nresolution = 3\nset = { \
+         \"time.dt_initial\" = 1e-300, \"cloth.velocity\" = [0.0, 0.0, 1.0], \
+         \"time.max_speed\" = 0.5 }\n",
+    )
+    .unwrap();
+    let (out, cache) = (dir.path().join("o"), dir.path().join("cache"));
+    let mut args = vec![
+        "study",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+        "--quiet",
+    ];
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("run static-3-rk4: this run would take"),
+        "{err}"
+    );
+    assert!(err.contains("--force runs it anyway"), "{err}");
+    assert!(!cache.exists(), "nothing runs before the check");
+    args.push("--force");
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 0, "{err}");
+    let summary = std::fs::read_to_string(out.join("sphere/runs/static-3-rk4/summary.json"));
+    assert!(summary.unwrap().contains("\"status\": \"diverged\""));
+    for command in ["study", "compare"] {
+        let help = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+            .args([command, "--help"])
+            .output()
+            .unwrap();
+        let help = String::from_utf8_lossy(&help.stdout).into_owned();
+        assert!(
+            help.lines()
+                .any(|l| l.trim() == "--force" || l.trim().starts_with("--force ")),
+            "{command}: {help}"
+        );
+    }
+    let (code, err) = adaptcloth(&[
+        "compare",
+        "--runs",
+        "static@3",
+        "--set",
+        "material.E=1e308",
+        "--ref-resolution",
+        "5",
+        "--floor-resolution",
+        "3",
+        "--cache",
+        cache.to_str().unwrap(),
+        "--out",
+        dir.path().join("c").to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("the reference run of <embedded sphere> (not covered by --force)"),
+        "{err}"
+    );
+}
+
 #[test]
 fn run_writes_outputs_and_exits_0() {
     let dir = tempfile::tempdir().unwrap();
