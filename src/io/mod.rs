@@ -33,6 +33,24 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     result
 }
 
+/// The text of the regular file `path`. A folder, a device, a pipe or a socket is refused with
+/// an `InvalidInput` error saying so, before reading: `/dev/zero` would never end.
+pub fn read_text(path: &Path) -> std::io::Result<String> {
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        let what = if meta.is_dir() {
+            "a folder"
+        } else {
+            "not a regular file (a device, pipe or socket)"
+        };
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("{} is {what}", path.display()),
+        ));
+    }
+    std::fs::read_to_string(path)
+}
+
 /// The temporary name [`write_atomic`] writes `path` under: `path` with `.tmp` appended. A
 /// process killed in the middle of a write leaves it behind; runs remove their own.
 pub fn temp_path(path: &Path) -> PathBuf {
@@ -60,7 +78,7 @@ pub fn file_safe(name: &str) -> String {
 
 /// Reads a CSV file of numbers: its header and rows (cells that do not parse become NaN).
 pub fn read_numeric_csv(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f64>>)> {
-    let text = std::fs::read_to_string(path)?;
+    let text = read_text(path)?;
     let mut lines = text.lines();
     let header: Vec<String> = lines
         .next()

@@ -250,7 +250,7 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError
 /// Reads, overrides and validates a scene file.
 pub fn load_with(path: &Path, overrides: &Overrides) -> Result<LoadedScene, SceneError> {
     let source = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+    let text = crate::io::read_text(path).map_err(|e| SceneError::Io {
         path: source.clone(),
         source: e,
     })?;

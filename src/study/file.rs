@@ -204,7 +204,7 @@ impl Errors<'_> {
 
 /// Reads and checks a study file; scene paths are made relative to its folder.
 pub fn load_study(path: &Path) -> Result<Study, StudyError> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = crate::io::read_text(path).map_err(|e| {
         StudyError::Config(format!("{}: cannot read study file: {e}", path.display()))
     })?;
     let stem = path

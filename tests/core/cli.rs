@@ -49,6 +49,41 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", "--duration=-1"],
             "--duration -1: expected a finite value > 0",
         ),
+        // Found by the hostile sweep after issue 15: allocation aborts and endless reads.
+        (
+            vec![
+                "compare",
+                "--ref-resolution",
+                "100000",
+                "--out",
+                "/nonexistent/o",
+            ],
+            "a grid may have at most 4000000 vertices",
+        ),
+        (
+            vec![
+                "compare",
+                "--samples",
+                "100000000",
+                "--out",
+                "/nonexistent/o",
+            ],
+            "the sample grid at most 1000 points per side",
+        ),
+        (vec!["run", "/dev/zero"], "not a regular file"),
+        (vec!["study", "/dev/zero"], "not a regular file"),
+        (
+            vec!["compare", "--docs-notes", "/dev/zero"],
+            "not a regular file",
+        ),
+        (
+            vec!["render", "/dev/zero", "--out", "/nonexistent/x.png"],
+            "not a regular file",
+        ),
+        (
+            vec!["frame-diff", "/dev/zero", "/dev/zero"],
+            "not a regular file",
+        ),
         // The sizing criteria on a run that never adapts (the scene says static).
         (
             vec!["run", "--set", "adaptivity.criteria=\"sizing\""],
