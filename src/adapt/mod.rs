@@ -26,6 +26,7 @@ use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::Real;
 use crate::mesh::EditError;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 /// What a strategy sees besides the cloth.
 pub struct AdaptContext<'a> {
@@ -35,9 +36,17 @@ pub struct AdaptContext<'a> {
     pub time: Real,
     /// The adaptivity parameters.
     pub params: &'a AdaptParams,
+    /// Set when the run is interrupted: strategies stop editing at their next edit (each edit
+    /// leaves a conforming mesh), so a long pass answers Ctrl-C or SIGTERM at once.
+    pub interrupt: Option<&'a AtomicBool>,
 }
 
 impl AdaptContext<'_> {
+    /// Whether the run was interrupted: the pass should stop before its next edit.
+    pub fn interrupted(&self) -> bool {
+        self.interrupt.is_some_and(|f| f.load(Ordering::Relaxed))
+    }
+
     /// The cloth edited through the shared state-transfer service with the scene's options:
     /// new vertices pushed out of the obstacles, momentum and kinetic energy restored as
     /// `restore_momentum` and `restore_energy` say. Every strategy applies its edits through it,

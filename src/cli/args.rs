@@ -186,6 +186,11 @@ pub struct ExecutionArgs {
     /// No progress bars.
     #[arg(long)]
     pub quiet: bool,
+    /// Run every run even when it is estimated at more than 1e8 steps (its dynamic step at the
+    /// start against the duration); without it the study exits 2 with the estimate before
+    /// anything runs. The reference and floor runs are always checked.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// `--write-docs` and `--docs-notes`.

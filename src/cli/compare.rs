@@ -5,14 +5,14 @@ use super::args::{
 };
 use super::{interrupt_flag, output_folder, read_input, show_progress, CliError};
 use crate::eval::reference::{self, ReferenceSettings};
-use crate::scene::{self, Overrides};
+use crate::scene::{self, Overrides, Setting};
 use crate::study::{self, CompareOptions, Comparison, ScenePlan, Shard, Study};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
 fn overrides(set: &[String], duration: Option<f64>) -> Overrides {
     Overrides {
-        set: set.to_vec(),
+        set: Setting::options(set),
         duration,
         ..Overrides::default()
     }
@@ -101,7 +101,7 @@ pub fn compare(args: CompareArgs) -> Result<(), CliError> {
         description: String::new(),
         source: "command line".into(),
         scenes: scene_names(&args),
-        set: args.set.clone(),
+        set: Setting::options(&args.set),
         duration: args.duration,
         reference: reference_settings(&args.reference)?,
         runs: study::parse_runs(&spec, &args.integrators)?,
@@ -114,7 +114,7 @@ pub fn compare(args: CompareArgs) -> Result<(), CliError> {
         (None, 1) => PathBuf::from("out").join(format!("compare-{name}")),
         (None, _) => PathBuf::from("out").join("compare").join(name),
     };
-    let plans = study::plan(&definition, out)?;
+    let plans = study::plan(&definition, out, args.execution.force)?;
     let execution = Execution::new(
         &args.execution,
         &args.reference.cache,
@@ -148,7 +148,7 @@ pub fn study(args: StudyArgs) -> Result<(), CliError> {
         .out
         .clone()
         .unwrap_or_else(|| PathBuf::from("out").join(format!("study-{}", definition.name)));
-    let plans = study::plan(&definition, |name| root.join(name))?;
+    let plans = study::plan(&definition, |name| root.join(name), args.execution.force)?;
     let execution = Execution::new(&args.execution, &args.cache, args.force_reference)?;
     if args.references_only {
         return references(&definition, &plans, &execution);

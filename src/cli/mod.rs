@@ -144,5 +144,5 @@ fn output_folder(dir: &Path) -> Result<(), CliError> {
 
 /// The text of an input file (exit 2 when it cannot be read).
 fn read_input(path: &Path) -> Result<String, CliError> {
-    std::fs::read_to_string(path).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))
+    crate::io::read_text(path).map_err(|e| CliError::Input(format!("{}: {e}", path.display())))
 }

@@ -3,26 +3,29 @@
 use super::args::{RenderArgs, RunArgs};
 use super::{interrupt_flag, output_folder, show_progress, CliError};
 use crate::report::render::{obstacle_meshes, render_png, FrameMesh};
-use crate::scene::{self, Overrides, EMBEDDED_SCENES};
+use crate::scene::{self, Overrides, Setting, EMBEDDED_SCENES};
 use crate::sim::{self, RunOptions, RunStatus, SetupError, Simulation};
 use std::path::{Path, PathBuf};
 
 /// `adaptcloth run`: one scene to its duration, outputs in `--out`.
 pub fn run(args: RunArgs) -> Result<(), CliError> {
     let overrides = Overrides {
-        set: args.set,
+        set: Setting::options(&args.set),
         strategy: args.strategy,
         integrator: args.integrator,
         duration: args.duration,
     };
     let loaded = scene::resolve(args.scene.as_deref(), &overrides)?;
+    loaded.check_run()?;
     let setup = |e| match e {
         SetupError::OffPattern { .. } => CliError::Input(e.to_string()),
         e => CliError::Input(format!("{}: {e}", loaded.source)),
     };
     let mut simulation = Simulation::new(&loaded).map_err(setup)?;
     if !args.force {
-        simulation.check_step_estimate().map_err(setup)?;
+        simulation
+            .check_step_estimate()
+            .map_err(|e| CliError::Input(format!("{}: {e}; {}", loaded.source, sim::FORCE_HINT)))?;
     }
     let out_dir = args.out.unwrap_or_else(|| {
         let name = format!("{}-{}", loaded.scene.name, simulation.strategy_name());

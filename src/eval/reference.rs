@@ -315,6 +315,9 @@ pub fn sample_points(loaded: &LoadedScene, n: usize) -> Result<SamplePoints, Ref
     Ok(SamplePoints::grid_over(&cloth.mesh, n, &tracked))
 }
 
+/// Most material-point samples per side of a reference (a million points in all).
+pub const MAX_SAMPLES: usize = 1000;
+
 /// Loads the reference of `base` from the cache, or computes it (reference and floor runs, in
 /// parallel when `jobs >= 2`) and stores it. `force` recomputes even when cached. `progress`
 /// receives one bar per run when given.
@@ -331,6 +334,22 @@ pub fn ensure_reference(
         return Err(ReferenceError::Settings(format!(
             "resolution {}, floor resolution {} and samples {} must be at least 2",
             settings.resolution, settings.floor_resolution, settings.samples
+        )));
+    }
+    let largest_grid = settings.resolution.max(settings.floor_resolution);
+    if largest_grid
+        .checked_mul(largest_grid)
+        .is_none_or(|n| n > crate::mesh::MAX_VERTICES)
+        || settings.samples > MAX_SAMPLES
+    {
+        return Err(ReferenceError::Settings(format!(
+            "resolution {}, floor resolution {} and samples {}: a grid may have at most {} \
+             vertices ({} per side) and the sample grid at most {MAX_SAMPLES} points per side",
+            settings.resolution,
+            settings.floor_resolution,
+            settings.samples,
+            crate::mesh::MAX_VERTICES,
+            (crate::mesh::MAX_VERTICES as f64).sqrt() as usize
         )));
     }
     if settings.beta.is_some_and(|b| !(b > 0.0 && b.is_finite())) {
@@ -355,6 +374,15 @@ pub fn ensure_reference(
     }
     let reference_scene = static_variant(base, settings.resolution, settings);
     let floor_scene = static_variant(base, settings.floor_resolution, settings);
+    // A reference that could never finish is refused whatever the runs' `--force` says.
+    for (what, scene) in [("reference", &reference_scene), ("floor", &floor_scene)] {
+        Simulation::new(scene)?.check_step_estimate().map_err(|e| {
+            ReferenceError::Settings(format!(
+                "the {what} run of {} (not covered by --force): {e}",
+                base.source
+            ))
+        })?;
+    }
     let samples = Arc::new(sample_points(&reference_scene, settings.samples)?);
     std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
     let bar = |label: &str| progress.map(|m| crate::sim::labelled_bar(m, label));

@@ -21,6 +21,7 @@ use std::path::{Path, PathBuf};
 /// rename. On failure (a full disk, a folder in the way) the temporary file is removed and `path`
 /// is left as it was: never a partly written file under the final name.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    refuse_special(path)?;
     let tmp = temp_path(path);
     let written = std::fs::File::create(&tmp).and_then(|mut f| {
         f.write_all(bytes)?;
@@ -31,6 +32,45 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         let _ = std::fs::remove_file(&tmp);
     }
     result
+}
+
+/// Refuses an existing `path` (symbolic links followed) that is not a regular file: the rename
+/// of an atomic write would replace a device such as `/dev/full` (as root, for every program) or
+/// a pipe with a plain file.
+fn refuse_special(path: &Path) -> std::io::Result<()> {
+    match std::fs::metadata(path) {
+        Ok(meta) if !meta.is_file() => Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!(
+                "{} is {}, not a file to write",
+                path.display(),
+                if meta.is_dir() {
+                    "a folder"
+                } else {
+                    "a device, pipe or socket"
+                }
+            ),
+        )),
+        _ => Ok(()),
+    }
+}
+
+/// The text of the regular file `path`. A folder, a device, a pipe or a socket is refused with
+/// an `InvalidInput` error saying so, before reading: `/dev/zero` would never end.
+pub fn read_text(path: &Path) -> std::io::Result<String> {
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        let what = if meta.is_dir() {
+            "a folder"
+        } else {
+            "not a regular file (a device, pipe or socket)"
+        };
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("{} is {what}", path.display()),
+        ));
+    }
+    std::fs::read_to_string(path)
 }
 
 /// The temporary name [`write_atomic`] writes `path` under: `path` with `.tmp` appended. A
@@ -60,7 +100,7 @@ pub fn file_safe(name: &str) -> String {
 
 /// Reads a CSV file of numbers: its header and rows (cells that do not parse become NaN).
 pub fn read_numeric_csv(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f64>>)> {
-    let text = std::fs::read_to_string(path)?;
+    let text = read_text(path)?;
     let mut lines = text.lines();
     let header: Vec<String> = lines
         .next()
@@ -81,7 +121,32 @@ pub fn read_numeric_csv(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f6
 
 #[cfg(test)]
 mod tests {
-    use super::file_safe;
+    use super::{file_safe, write_atomic};
+
+    /// An atomic write never replaces a device or a pipe (a rename over `/dev/full` as root once
+    /// turned it into a plain file for every program on the machine); a pipe stands in for the
+    /// device here, so a failure of this test cannot harm the machine.
+    #[test]
+    fn an_atomic_write_refuses_to_replace_a_pipe_or_a_folder() {
+        let dir = tempfile::tempdir().unwrap();
+        let fifo = dir.path().join("pipe");
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            let err = write_atomic(&fifo, b"x").unwrap_err();
+            assert!(
+                err.to_string().contains("a device, pipe or socket"),
+                "{err}"
+            );
+            let meta = std::fs::symlink_metadata(&fifo).unwrap();
+            assert!(!meta.is_file(), "the pipe was replaced");
+        }
+        let err = write_atomic(dir.path(), b"x").unwrap_err();
+        assert!(err.to_string().contains("a folder"), "{err}");
+        let file = dir.path().join("f.txt");
+        write_atomic(&file, b"one").unwrap();
+        write_atomic(&file, b"two").unwrap();
+        assert_eq!(std::fs::read(&file).unwrap(), b"two");
+    }
 
     #[test]
     fn names_cannot_escape_the_output_folder() {

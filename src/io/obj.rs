@@ -86,7 +86,7 @@ pub enum ObjError {
 
 /// Reads and parses the OBJ file at `path`.
 pub fn read_obj(path: &Path) -> Result<ObjFile, ObjError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ObjError::Io {
+    let text = super::read_text(path).map_err(|source| ObjError::Io {
         path: path.to_path_buf(),
         source,
     })?;

@@ -83,13 +83,13 @@ impl ForceModel {
         for v in mesh.vertices() {
             self.set_vertex(mesh, v);
         }
-        self.refresh_mass_stats();
         self.rebuild_elements(mesh);
     }
 
-    /// Rebuilds the springs and bending elements only (after a topology change whose vertex
-    /// parameters were updated with [`ForceModel::update_vertices`]).
+    /// Rebuilds the springs and bending elements and the mass statistics (after a topology
+    /// change whose vertex parameters were updated with [`ForceModel::update_vertices`]).
     pub fn rebuild_elements(&mut self, mesh: &Mesh) {
+        self.refresh_mass_stats();
         self.springs.rebuild(mesh, &self.material);
         self.bends.rebuild(mesh);
         self.max_stiffness = self.springs.max_stiffness();
@@ -97,7 +97,9 @@ impl ForceModel {
 
     /// Recomputes mass, inverse mass and drag coefficient of the listed vertex slots (a slot that
     /// is no longer live gets zeros). The per-vertex arrays are first resized to
-    /// `mesh.vertex_slots()` (new slots start at zero).
+    /// `mesh.vertex_slots()` (new slots start at zero). Costs the listed slots only: the mass
+    /// statistics ([`ForceModel::total_mass`], [`ForceModel::min_mass`]) follow at the next
+    /// [`ForceModel::rebuild_elements`], once per adaptation pass, not once per edit.
     pub fn update_vertices(&mut self, mesh: &Mesh, vertices: &[VertexId]) {
         let slots = mesh.vertex_slots();
         for arr in [&mut self.mass, &mut self.inv_mass, &mut self.drag] {
@@ -116,7 +118,6 @@ impl ForceModel {
                 self.drag[i] = 0.0;
             }
         }
-        self.refresh_mass_stats();
     }
 
     /// A model over explicit particles and springs, without a mesh (single-spring tests and the

@@ -144,20 +144,44 @@ pub(crate) type DrawResult<DB> =
 /// Draws a figure of stacked panels sharing the time axis to `stem.svg` and `stem.png`.
 pub fn time_series(stem: &Path, title: &str, panels: &[Panel]) -> Result<Vec<PathBuf>, PlotError> {
     register_fonts();
-    let svg = stem.with_extension("svg");
-    let png = stem.with_extension("png");
     let h = 80 + 300 * panels.len() as u32;
+    write_figure(
+        stem,
+        (860, h),
+        |root| draw_panels(root, title, panels),
+        |root| draw_panels(root, title, panels),
+    )
+}
+
+/// Draws a figure of `size` pixels into memory, with `svg` and with `png` (the same drawing code
+/// on each backend), and writes `stem.svg` and `stem.png` atomically ([`crate::io::write_atomic`]):
+/// a failed draw or write leaves each file as it was and no temporary file. Returns the two files.
+pub(crate) fn write_figure(
+    stem: &Path,
+    size: (u32, u32),
+    svg: impl for<'a, 'b> FnOnce(&'a DrawingArea<SVGBackend<'b>, Shift>) -> DrawResult<SVGBackend<'b>>,
+    png: impl for<'a, 'b> FnOnce(
+        &'a DrawingArea<BitMapBackend<'b>, Shift>,
+    ) -> DrawResult<BitMapBackend<'b>>,
+) -> Result<Vec<PathBuf>, PlotError> {
+    let (svg_path, png_path) = (stem.with_extension("svg"), stem.with_extension("png"));
+    let mut text = String::new();
     {
-        let root = SVGBackend::new(&svg, (860, h)).into_drawing_area();
-        draw_panels(&root, title, panels).map_err(|e| err(&svg, e))?;
-        root.present().map_err(|e| err(&svg, e))?;
+        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+        svg(&root).map_err(|e| err(&svg_path, e))?;
+        root.present().map_err(|e| err(&svg_path, e))?;
     }
+    let mut rgb = vec![0u8; size.0 as usize * size.1 as usize * 3];
     {
-        let root = BitMapBackend::new(&png, (860, h)).into_drawing_area();
-        draw_panels(&root, title, panels).map_err(|e| err(&png, e))?;
-        root.present().map_err(|e| err(&png, e))?;
+        let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+        png(&root).map_err(|e| err(&png_path, e))?;
+        root.present().map_err(|e| err(&png_path, e))?;
     }
-    Ok(vec![svg, png])
+    let bytes =
+        crate::report::render::encode_png(size.0, size.1, &rgb).map_err(|e| err(&png_path, e))?;
+    crate::io::write_atomic(&svg_path, text.as_bytes()).map_err(|e| err(&svg_path, e))?;
+    crate::io::write_atomic(&png_path, &bytes).map_err(|e| err(&png_path, e))?;
+    Ok(vec![svg_path, png_path])
 }
 
 /// At most `n` points of a line, evenly picked (keeps files small).
@@ -290,5 +314,47 @@ mod tests {
         let files = time_series(&dir.path().join("ts"), "t", &[panel.clone(), panel]).unwrap();
         let svg = std::fs::read_to_string(&files[0]).unwrap();
         assert!(svg.contains("<svg"));
+    }
+
+    /// A plot replaces its files by a rename, never by writing into them: a reader holding the
+    /// old file (here a hard link to it) keeps it whole; a failed write leaves no temporary file.
+    #[test]
+    fn plots_are_written_atomically() {
+        let dir = tempfile::tempdir().unwrap();
+        let panel = Panel {
+            y_label: "y".into(),
+            log_y: false,
+            series: vec![Series {
+                label: "s".into(),
+                points: vec![(0.0, 1.0), (1.0, 2.0)],
+                dashed: false,
+            }],
+            hline: None,
+        };
+        let stem = dir.path().join("ts");
+        for ext in ["svg", "png"] {
+            std::fs::write(stem.with_extension(ext), "old").unwrap();
+            std::fs::hard_link(stem.with_extension(ext), dir.path().join(ext)).unwrap();
+        }
+        time_series(&stem, "t", std::slice::from_ref(&panel)).unwrap();
+        for ext in ["svg", "png"] {
+            assert_eq!(
+                std::fs::read(dir.path().join(ext)).unwrap(),
+                b"old",
+                "{ext}"
+            );
+        }
+        assert!(std::fs::read(stem.with_extension("png"))
+            .unwrap()
+            .starts_with(b"\x89PNG"));
+        // A folder in the way of the PNG: an error, and nothing left under a temporary name.
+        std::fs::remove_file(stem.with_extension("png")).unwrap();
+        std::fs::create_dir(stem.with_extension("png")).unwrap();
+        assert!(time_series(&stem, "t", &[panel]).is_err());
+        let names: Vec<String> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        assert!(names.iter().all(|n| !n.ends_with(".tmp")), "{names:?}");
     }
 }

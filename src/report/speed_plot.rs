@@ -5,7 +5,7 @@
 //! panels, so it never hides a point or a label.
 
 use super::plots::{
-    color, err, log_range, log_tick, log_tick_sci, register_fonts, DrawResult, PlotError,
+    color, log_range, log_tick, log_tick_sci, register_fonts, write_figure, DrawResult, PlotError,
 };
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -49,23 +49,16 @@ pub fn speed_error(
     panels: &[SpeedPanel],
 ) -> Result<Vec<PathBuf>, PlotError> {
     register_fonts();
-    let svg = stem.with_extension("svg");
-    let png = stem.with_extension("png");
     let size = (
         PANEL_WIDTH * panels.len().max(1) as u32 + LEGEND_WIDTH,
         HEIGHT,
     );
-    {
-        let root = SVGBackend::new(&svg, size).into_drawing_area();
-        draw(&root, title, error_name, panels).map_err(|e| err(&svg, e))?;
-        root.present().map_err(|e| err(&svg, e))?;
-    }
-    {
-        let root = BitMapBackend::new(&png, size).into_drawing_area();
-        draw(&root, title, error_name, panels).map_err(|e| err(&png, e))?;
-        root.present().map_err(|e| err(&png, e))?;
-    }
-    Ok(vec![svg, png])
+    write_figure(
+        stem,
+        size,
+        |root| draw(root, title, error_name, panels),
+        |root| draw(root, title, error_name, panels),
+    )
 }
 
 /// Every curve label in first-appearance order: a label's colour is its position here.

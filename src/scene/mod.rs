@@ -45,17 +45,29 @@ pub struct LoadedScene {
     pub base_dir: PathBuf,
     /// The scene's text (for the lines of keys in later messages).
     text: String,
-    /// Keys set on the command line, with the option that set each.
+    /// Keys set by overrides, with the place of the setting that set each.
     options: Vec<(String, String)>,
 }
 
 impl LoadedScene {
-    /// Where `key`'s value came from, for messages about it: `--set key=value` (the option that
-    /// set it), else `FILE:LINE` (the file and the key's line: `cloth.pinned`, `tracked.0.rest`),
-    /// else the file.
-    pub fn place_of(&self, key: &str) -> String {
-        let (path, line) = validate::locate(&self.text, &self.source, &self.options, key);
-        format!("{path}{line}")
+    /// Where `key` (holding `value`) came from and what it is, for messages about it: the setting
+    /// that set it (`--set key=value`, `study.toml:12: runs[0].set."key" = value`), else
+    /// `FILE:LINE: key = value` (the key's line in the scene file: `cloth.pinned[0]`,
+    /// `tracked.0.rest`).
+    pub fn subject(&self, key: &str, value: &str) -> String {
+        validate::subject(&self.text, &self.source, &self.options, key, value)
+    }
+
+    /// Checks what a scene must satisfy to be run, beyond [`validate`]'s ranges: the sizing
+    /// criteria need a strategy that adapts the mesh. Called on a run's final scene (`run`, each
+    /// run of a study); a study's base scene is a template whose strategy its runs replace.
+    pub fn check_run(&self) -> Result<(), SceneError> {
+        let checker = validate::Checker {
+            text: &self.text,
+            source: &self.source,
+            options: &self.options,
+        };
+        validate::criteria_need_adaptivity(&checker, &self.scene.adaptivity)
     }
 }
 
@@ -78,42 +90,78 @@ pub enum SceneError {
         /// The parser's message, with line and column.
         message: String,
     },
-    /// A `--set` argument is not of the form `section.key=value`.
-    #[error("--set {arg}: expected section.key=value")]
+    /// An override is not of the form `section.key=value`.
+    #[error("{place}: expected section.key=value")]
     BadOverride {
-        /// The argument.
-        arg: String,
+        /// Where it was given ([`Setting::place`]).
+        place: String,
     },
-    /// A `--set` key names no scene parameter.
-    #[error("--set {key}: no such scene key; valid keys here: {valid}")]
+    /// An override's key names no scene parameter.
+    #[error("{place}: no such scene key; valid keys here: {valid}")]
     UnknownKey {
-        /// The key.
-        key: String,
+        /// Where it was given ([`Setting::place`]).
+        place: String,
         /// The valid keys at that level.
         valid: String,
     },
     /// A value out of its range.
-    #[error("{path}{line}: {key} = {value}: {expected}")]
+    #[error("{subject}: {expected}")]
     Invalid {
-        /// The file.
-        path: String,
-        /// `:LINE` when the key was found in the file, else empty.
-        line: String,
-        /// The key (`section.key`).
-        key: String,
-        /// The offending value.
-        value: String,
+        /// Where the value came from and what it is ([`LoadedScene::subject`]):
+        /// `FILE:LINE: key = value`, or the setting that set it (`--set key=value`).
+        subject: String,
         /// What was expected.
         expected: String,
     },
 }
 
-/// Changes to a scene given on the command line: `--set section.key=value` strings, then the
-/// typed options (`--strategy`, `--integrator`, `--duration`), applied before validation.
+/// One `section.key=value` scene override and where it was given, which messages about its key
+/// name instead of a line of the scene file.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Setting {
+    /// `section.key=value`, the value in TOML syntax (or a bare string).
+    pub arg: String,
+    /// Where it was given, with its key and value (`study.toml:12: runs[0].set."time.dt" =
+    /// 0.1`); `None` for the command line (`--set ARG`).
+    pub from: Option<String>,
+}
+
+impl Setting {
+    /// `--set ARG` on the command line.
+    pub fn option(arg: &str) -> Setting {
+        Setting {
+            arg: arg.to_string(),
+            from: None,
+        }
+    }
+
+    /// Given at `from` (a file, its line, the key and the value).
+    pub fn at(arg: String, from: String) -> Setting {
+        Setting {
+            arg,
+            from: Some(from),
+        }
+    }
+
+    /// Where it was given, naming the key and the value: `--set ARG` or [`Setting::from`].
+    pub fn place(&self) -> String {
+        self.from
+            .clone()
+            .unwrap_or_else(|| format!("--set {}", self.arg))
+    }
+
+    /// Command-line `--set` arguments as settings.
+    pub fn options(args: &[String]) -> Vec<Setting> {
+        args.iter().map(|a| Setting::option(a)).collect()
+    }
+}
+
+/// Changes to a scene: `section.key=value` settings (`--set` or a study file's), then the typed
+/// options (`--strategy`, `--integrator`, `--duration`), applied before validation.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Overrides {
     /// `section.key=value` overrides, in order.
-    pub set: Vec<String>,
+    pub set: Vec<Setting>,
     /// `[adaptivity] strategy`.
     pub strategy: Option<String>,
     /// `[integrator] name`.
@@ -126,22 +174,15 @@ impl Overrides {
     /// Only `--set` strings.
     pub fn set(set: &[String]) -> Overrides {
         Overrides {
-            set: set.to_vec(),
+            set: Setting::options(set),
             ..Overrides::default()
         }
     }
 
-    /// Each key these overrides set, with the option that set it (`--set key=value`,
-    /// `--strategy NAME`, ...), for error messages.
+    /// Each key these overrides set, with the place of the setting or option that set it
+    /// (`--set key=value`, a study file's line, `--strategy NAME`, ...), for error messages.
     fn options(&self) -> Vec<(String, String)> {
-        let mut out: Vec<(String, String)> = self
-            .set
-            .iter()
-            .filter_map(|arg| {
-                let (key, _) = arg.split_once('=')?;
-                Some((key.trim().to_string(), format!("--set {arg}")))
-            })
-            .collect();
+        let mut out = places(&self.set);
         let typed = [
             ("adaptivity.strategy", "--strategy", self.strategy.clone()),
             ("integrator.name", "--integrator", self.integrator.clone()),
@@ -159,6 +200,7 @@ impl Overrides {
         out
     }
 
+    /// The typed options applied to `scene`.
     fn apply_typed(&self, scene: &mut Scene) {
         if let Some(s) = &self.strategy {
             scene.adaptivity.strategy = s.clone();
@@ -208,7 +250,7 @@ pub fn load(path: &Path, overrides: &[String]) -> Result<LoadedScene, SceneError
 /// Reads, overrides and validates a scene file.
 pub fn load_with(path: &Path, overrides: &Overrides) -> Result<LoadedScene, SceneError> {
     let source = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| SceneError::Io {
+    let text = crate::io::read_text(path).map_err(|e| SceneError::Io {
         path: source.clone(),
         source: e,
     })?;
@@ -282,38 +324,24 @@ fn from_text_with(
     base_dir: PathBuf,
     overrides: &Overrides,
 ) -> Result<LoadedScene, SceneError> {
-    let parse_error = |path: &str, e: toml::de::Error| SceneError::Parse {
-        path: path.to_string(),
-        message: e.to_string().trim_end().to_string(),
-    };
     let options = overrides.options();
     let checker = validate::Checker {
         text,
         source,
         options: &options,
     };
-    // An `[[obstacles]]` mistake is named by its key and line (the parser gives the header).
-    let obstacle_error = |table: &toml::Table| diagnose::obstacle_error(table, &checker);
-    // First pass on the text itself, so unknown keys and wrong types are reported with their line.
-    let mut scene: Scene = toml::from_str(text).map_err(|e| {
+    // First pass on the text itself, so unknown keys and wrong types are reported with their line;
+    // an `[[obstacles]]` mistake by its key and line (the parser gives the header).
+    let scene: Scene = toml::from_str(text).map_err(|e| {
         toml::from_str::<toml::Table>(text)
             .ok()
-            .and_then(|t| obstacle_error(&t))
-            .unwrap_or_else(|| parse_error(source, e))
+            .and_then(|t| diagnose::obstacle_error(&t, &checker))
+            .unwrap_or_else(|| SceneError::Parse {
+                path: source.to_string(),
+                message: e.to_string().trim_end().to_string(),
+            })
     })?;
-    if !overrides.set.is_empty() {
-        let mut table = toml::Table::try_from(&scene).map_err(|e| SceneError::Parse {
-            path: source.to_string(),
-            message: e.to_string(),
-        })?;
-        for arg in &overrides.set {
-            apply_override(&mut table, arg)?;
-        }
-        scene = Scene::deserialize(toml::Value::Table(table.clone())).map_err(|e| {
-            obstacle_error(&table)
-                .unwrap_or_else(|| parse_error(&format!("{source} with --set"), e))
-        })?;
-    }
+    let mut scene = apply_settings(scene, &overrides.set, &checker)?;
     overrides.apply_typed(&mut scene);
     // The name names output folders: it must stay one safe file-name component.
     scene.name = crate::io::file_safe(&scene.name);
@@ -330,39 +358,70 @@ fn from_text_with(
     })
 }
 
-/// `loaded` with more `section.key=value` overrides (a study run's own settings), validated
-/// again. Errors name the key and the expectation; there is no file line for them.
-pub fn with_overrides(loaded: &LoadedScene, set: &[String]) -> Result<LoadedScene, SceneError> {
-    if set.is_empty() {
-        return Ok(loaded.clone());
-    }
-    let source = &loaded.source;
-    let mut table = toml::Table::try_from(&loaded.scene).map_err(|e| SceneError::Parse {
-        path: source.clone(),
-        message: e.to_string(),
-    })?;
-    for arg in set {
-        apply_override(&mut table, arg)?;
-    }
-    let options = Overrides::set(set).options();
-    let scene = Scene::deserialize(toml::Value::Table(table.clone())).map_err(|e| {
-        let checker = validate::Checker {
-            text: "",
-            source,
-            options: &options,
-        };
-        diagnose::obstacle_error(&table, &checker).unwrap_or_else(|| SceneError::Parse {
-            path: format!("{source} with {}", set.join(" ")),
-            message: e.to_string().trim_end().to_string(),
-        })
-    })?;
-    validate::validate(&scene, "", source, &loaded.base_dir, &options)?;
-    let mut all_options = loaded.options.clone();
-    all_options.extend(options);
+/// `loaded` with more settings (a study run's own), validated again; errors name the setting
+/// (its file and line) for its keys, the scene file's line for the others.
+pub fn with_overrides(loaded: &LoadedScene, set: &[Setting]) -> Result<LoadedScene, SceneError> {
+    let mut options = loaded.options.clone();
+    options.extend(places(set));
+    let checker = validate::Checker {
+        text: &loaded.text,
+        source: &loaded.source,
+        options: &options,
+    };
+    let scene = apply_settings(loaded.scene.clone(), set, &checker)?;
+    validate::validate(
+        &scene,
+        &loaded.text,
+        &loaded.source,
+        &loaded.base_dir,
+        &options,
+    )?;
     Ok(LoadedScene {
         scene,
-        options: all_options,
+        options,
         ..loaded.clone()
+    })
+}
+
+/// Each setting's key with its place ([`Setting::place`]).
+fn places(set: &[Setting]) -> Vec<(String, String)> {
+    set.iter()
+        .filter_map(|s| {
+            let (key, _) = s.arg.split_once('=')?;
+            Some((key.trim().to_string(), s.place()))
+        })
+        .collect()
+}
+
+/// `scene` with `settings` applied in order. A value of the wrong type is blamed on the setting
+/// that gave it (the first after which the scene no longer reads), an `[[obstacles]]` one on its
+/// key.
+fn apply_settings(
+    scene: Scene,
+    settings: &[Setting],
+    checker: &validate::Checker,
+) -> Result<Scene, SceneError> {
+    if settings.is_empty() {
+        return Ok(scene);
+    }
+    let mut table = toml::Table::try_from(&scene).map_err(|e| SceneError::Parse {
+        path: checker.source.to_string(),
+        message: e.to_string(),
+    })?;
+    for setting in settings {
+        apply_override(&mut table, setting)?;
+        if let Err(e) = Scene::deserialize(toml::Value::Table(table.clone())) {
+            return Err(
+                diagnose::obstacle_error(&table, checker).unwrap_or_else(|| SceneError::Parse {
+                    path: setting.place(),
+                    message: e.to_string().trim_end().replace('\n', " "),
+                }),
+            );
+        }
+    }
+    Scene::deserialize(toml::Value::Table(table)).map_err(|e| SceneError::Parse {
+        path: checker.source.to_string(),
+        message: e.to_string().trim_end().to_string(),
     })
 }
 
@@ -400,20 +459,19 @@ use serde::Deserialize;
 /// its default, so a key absent there does not exist). Array elements are addressed by index:
 /// `obstacles.0.radius=0.3`. The value is parsed as TOML (number, boolean, array, quoted string)
 /// or else taken as a bare string; an integer given for a float key becomes a float.
-fn apply_override(table: &mut toml::Table, arg: &str) -> Result<(), SceneError> {
-    let (key, raw) = arg.split_once('=').ok_or_else(|| SceneError::BadOverride {
-        arg: arg.to_string(),
-    })?;
+fn apply_override(table: &mut toml::Table, setting: &Setting) -> Result<(), SceneError> {
+    let bad = || SceneError::BadOverride {
+        place: setting.place(),
+    };
+    let (key, raw) = setting.arg.split_once('=').ok_or_else(bad)?;
     let key = key.trim();
     let parts: Vec<&str> = key.split('.').collect();
     if key.is_empty() || parts.iter().any(|p| p.is_empty()) {
-        return Err(SceneError::BadOverride {
-            arg: arg.to_string(),
-        });
+        return Err(bad());
     }
     let value = parse_value(raw.trim());
     let unknown = |valid: Vec<String>| SceneError::UnknownKey {
-        key: key.to_string(),
+        place: setting.place(),
         valid: valid.join(", "),
     };
     let top_keys: Vec<String> = table.keys().cloned().collect();

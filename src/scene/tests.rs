@@ -274,3 +274,42 @@ fn sizing_keys_need_the_sizing_criteria_and_rounds_are_bounded() {
         assert!(load_text("", &[sizing, bad]).is_err(), "{bad}");
     }
 }
+
+#[test]
+fn the_sizing_criteria_on_a_static_run_are_rejected_after_every_override() {
+    let text = "[adaptivity]\nstrategy = \"static\"\ncriteria = \"sizing\"\n";
+    let e = load_text(text, &[]).unwrap().check_run().unwrap_err();
+    let e = e.to_string();
+    assert!(
+        e.starts_with("test.toml:3: adaptivity.criteria = \"sizing\": strategy `static` never"),
+        "{e}"
+    );
+    assert!(e.contains("bisect48"), "{e}");
+    let e = load_text("", &["adaptivity.criteria=\"sizing\""])
+        .unwrap()
+        .check_run()
+        .unwrap_err();
+    assert!(
+        e.to_string().starts_with("--set adaptivity.criteria"),
+        "{e}"
+    );
+    // `run --strategy bisect48` on a file that says static: the final scene adapts.
+    let overrides = Overrides {
+        strategy: Some("bisect48".into()),
+        ..Overrides::default()
+    };
+    let base = PathBuf::from(".");
+    let loaded = from_text_with(text, "test.toml", "test", base, &overrides).unwrap();
+    loaded.check_run().unwrap();
+}
+
+#[test]
+fn an_error_from_a_setting_names_its_key_and_value_once() {
+    let e = load_text("", &["adaptivity.size_angle=0.1"]).unwrap_err();
+    let e = e.to_string();
+    assert!(
+        e.starts_with("--set adaptivity.size_angle=0.1: a sizing-field key"),
+        "{e}"
+    );
+    assert_eq!(e.matches("size_angle").count(), 1, "{e}");
+}

@@ -33,24 +33,26 @@ const MAX_CG_ITERATIONS: usize = 10_000;
 /// Most relaxation passes per step (`integrator.relaxation_passes`; default 4).
 const MAX_RELAXATION_PASSES: usize = 1_000;
 
-/// Where a key's value came from: the option that set it (`--set key=value`; for a list element
-/// `key[i]`, the option that set the list), else the file and the key's line (`FILE:LINE`), else
-/// the file. Returns (path or option, `:LINE` or empty).
-pub(super) fn locate(
+/// Where `key`'s value came from and what it is: the setting that set it (its place names the key
+/// and the value: `--set key=value`); for a list element `key[i]` set as a whole, that setting then
+/// `key[i] = value`; else the file, the key's line and `key = value`.
+pub(super) fn subject(
     text: &str,
     source: &str,
     options: &[(String, String)],
     key: &str,
-) -> (String, String) {
+    value: &str,
+) -> String {
     let whole = key.split('[').next().unwrap_or(key);
     match options.iter().rev().find(|(k, _)| k == key || k == whole) {
-        Some((_, option)) => (option.clone(), String::new()),
-        None => (
-            source.to_string(),
-            find_line(text, key)
+        Some((k, place)) if k == key => place.clone(),
+        Some((_, place)) => format!("{place}: {key} = {value}"),
+        None => {
+            let line = find_line(text, key)
                 .map(|l| format!(":{l}"))
-                .unwrap_or_default(),
-        ),
+                .unwrap_or_default();
+            format!("{source}{line}: {key} = {value}")
+        }
     }
 }
 
@@ -58,26 +60,28 @@ pub(super) fn locate(
 pub(super) struct Checker<'a> {
     pub(super) text: &'a str,
     pub(super) source: &'a str,
-    /// Keys set on the command line, with the option that set them: their errors name the option,
-    /// not a line of the file.
+    /// Keys set by overrides, with the place of the setting that set each: their errors name the
+    /// setting, not a line of the scene file.
     pub(super) options: &'a [(String, String)],
 }
 
 impl Checker<'_> {
     /// An error for `key` (`section.key`, or `obstacles.N.key`) holding `value`: named by the
-    /// option that set it, else by the file and the key's line.
+    /// setting that set it, else by the file and the key's line ([`subject`]).
     pub(super) fn fail(
         &self,
         key: &str,
         value: impl std::fmt::Display,
         expected: &str,
     ) -> SceneError {
-        let (path, line) = locate(self.text, self.source, self.options, key);
         SceneError::Invalid {
-            path,
-            line,
-            key: key.to_string(),
-            value: value.to_string(),
+            subject: subject(
+                self.text,
+                self.source,
+                self.options,
+                key,
+                &value.to_string(),
+            ),
             expected: expected.to_string(),
         }
     }
@@ -557,6 +561,30 @@ fn strategy_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
         ));
     }
     Ok(())
+}
+
+/// Fails when the criteria are the sizing field's while the strategy never edits the mesh
+/// (`static` reads no criteria).
+pub(super) fn criteria_need_adaptivity(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
+    let adapts = crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh);
+    if a.criteria != CriteriaSpec::Sizing || adapts {
+        return Ok(());
+    }
+    let adaptive: Vec<&str> = crate::strategies::STRATEGIES
+        .iter()
+        .filter(|s| s.edits_mesh)
+        .map(|s| s.name)
+        .collect();
+    Err(c.fail(
+        "adaptivity.criteria",
+        "\"sizing\"",
+        &format!(
+            "strategy `{}` never adapts the mesh and reads no criteria; the sizing field needs \
+             an adaptive strategy ({})",
+            a.strategy,
+            adaptive.join(", ")
+        ),
+    ))
 }
 
 /// Fails when a sizing-field key (`size_*`) holds a non-default value while the scene's criteria

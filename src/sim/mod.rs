@@ -22,6 +22,12 @@ use crate::physics::{
     STEPS_PER_ITERATION,
 };
 use crate::scene::{LoadedScene, Scene, TimeMode, MAX_STEPS};
+use std::sync::atomic::AtomicBool;
+use std::sync::Arc;
+
+/// What `--force` does, said (by the commands that have it) after a refused step estimate
+/// ([`Simulation::check_step_estimate`]).
+pub const FORCE_HINT: &str = "--force runs it anyway";
 use crate::strategies::make_strategy;
 use std::time::{Duration, Instant};
 
@@ -117,6 +123,8 @@ pub struct Simulation {
     drivers: Vec<(usize, Vec3)>,
     /// Wall time per stage.
     pub stage_times: StageTimes,
+    /// Set when the run is interrupted: the adaptation pass stops at its next edit or round.
+    interrupt: Option<Arc<AtomicBool>>,
 }
 
 impl Simulation {
@@ -163,13 +171,16 @@ impl Simulation {
             last_adapt: None,
             drivers,
             stage_times: StageTimes::default(),
+            interrupt: None,
         })
     }
 
     /// Lets a long step end early once `flag` is set (the run driver passes its interrupt flag,
-    /// so Ctrl-C or SIGTERM is answered within a step's inner loop, not after it).
-    pub fn set_interrupt(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
-        self.integrator.set_interrupt(flag);
+    /// so Ctrl-C or SIGTERM is answered within a step's inner loop, not after it: the
+    /// integrator's iterations, the adaptation pass's rounds and edits).
+    pub fn set_interrupt(&mut self, flag: Arc<AtomicBool>) {
+        self.integrator.set_interrupt(flag.clone());
+        self.interrupt = Some(flag);
     }
 
     /// The strategy's name.
@@ -284,7 +295,7 @@ impl Simulation {
         };
         Err(SetupError::TooManySteps(format!(
             "this run would take about {steps:.3e} steps of {dt:.3e} s over time.duration = {} s; \
-             at most {MAX_STEPS:e} are accepted (--force runs it anyway). {why}",
+             at most {MAX_STEPS:e} are accepted. {why}",
             t.duration,
         )))
     }
@@ -338,9 +349,13 @@ impl Simulation {
                 obstacles: &self.obstacles,
                 time: self.t,
                 params: &self.adapt_params,
+                interrupt: self.interrupt.as_deref(),
             };
             let mut total = AdaptReport::default();
             for _ in 0..self.adapt_params.rounds.max(1) {
+                if ctx.interrupted() {
+                    break;
+                }
                 let round =
                     self.strategy
                         .adapt(&mut self.cloth, &ctx)

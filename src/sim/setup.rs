@@ -16,16 +16,11 @@ pub enum SetupError {
     #[error("obstacles: {0}")]
     Collision(#[from] crate::collision::CollisionError),
     /// A pinned or tracked rest point is not on the pattern.
-    #[error("{place}: {key} = [{u}, {v}]: expected a rest point on the cloth pattern (m)")]
+    #[error("{subject}: expected a rest point on the cloth pattern (m)")]
     OffPattern {
-        /// Where the point was given: `FILE:LINE` or the option that set it.
-        place: String,
-        /// `cloth.pinned[i]` or `tracked.i.rest`.
-        key: String,
-        /// Rest u (m).
-        u: Real,
-        /// Rest v (m).
-        v: Real,
+        /// Where the point was given and what it is ([`LoadedScene::subject`]):
+        /// `FILE:LINE: cloth.pinned[0] = [u, v]`, or the setting that set it.
+        subject: String,
     },
     /// The strategy is unknown.
     #[error("{0}")]
@@ -83,10 +78,7 @@ pub fn build_cloth(loaded: &LoadedScene) -> Result<Cloth, SetupError> {
 /// The error for the rest point `p` (m) of `key` lying off the pattern, placed at its line.
 pub(crate) fn off_pattern(loaded: &LoadedScene, key: &str, p: [Real; 2]) -> SetupError {
     SetupError::OffPattern {
-        place: loaded.place_of(key),
-        key: key.to_string(),
-        u: p[0],
-        v: p[1],
+        subject: loaded.subject(key, &format!("[{}, {}]", p[0], p[1])),
     }
 }
 

@@ -4,16 +4,15 @@
 use super::file::RunTemplate;
 use super::StudyError;
 use crate::physics::integrator_named;
-use crate::scene::LoadedScene;
+use crate::scene::{LoadedScene, Setting};
 use crate::strategies::strategy_names;
-use serde::{Deserialize, Serialize};
 
 /// Static grids of the default comparison (vertices per side).
 pub const DEFAULT_STATIC_GRIDS: [usize; 4] = [5, 9, 17, 33];
 
 /// One configuration: a strategy on a starting grid with an integrator and its own scene
 /// overrides, at the scene's other parameters.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct RunConfig {
     /// Strategy name.
     pub strategy: String,
@@ -23,10 +22,13 @@ pub struct RunConfig {
     pub integrator: String,
     /// The label's first part (the strategy, or the study run's `label`).
     pub base: String,
-    /// Scene overrides of this run only (`section.key=value`); never the reference's.
-    pub set: Vec<String>,
+    /// Scene overrides of this run only; never the reference's.
+    pub set: Vec<Setting>,
     /// Label suffix from swept values (`-h_min=0.04`), empty without a sweep.
     pub suffix: String,
+    /// Where the run was given (`study.toml:7: runs[0]`, `--runs static@5`): messages about its
+    /// grid, strategy and integrator name it.
+    pub from: String,
 }
 
 impl RunConfig {
@@ -39,15 +41,24 @@ impl RunConfig {
     }
 
     /// The scene of this configuration: `base` with its grid, strategy, integrator and own
-    /// overrides, validated.
+    /// overrides, validated as a run ([`LoadedScene::check_run`]); errors end with the label.
     pub fn scene(&self, base: &LoadedScene) -> Result<LoadedScene, StudyError> {
-        let mut l = base.clone();
-        l.scene.cloth.resolution = self.resolution;
-        l.scene.cloth.resolution_v = 0;
-        l.scene.adaptivity.strategy = self.strategy.clone();
-        l.scene.integrator.name = self.integrator.clone();
-        crate::scene::with_overrides(&l, &self.set)
-            .map_err(|e| StudyError::Config(format!("run {}: {e}", self.label())))
+        let given = |key: &str, value: String| {
+            Setting::at(
+                format!("{key}={value}"),
+                format!("{}: {key} = {value}", self.from),
+            )
+        };
+        let mut set = vec![
+            given("cloth.resolution", self.resolution.to_string()),
+            given("cloth.resolution_v", "0".into()),
+            given("adaptivity.strategy", format!("{:?}", self.strategy)),
+            given("integrator.name", format!("{:?}", self.integrator)),
+        ];
+        set.extend(self.set.iter().cloned());
+        crate::scene::with_overrides(base, &set)
+            .and_then(|l| l.check_run().map(|()| l))
+            .map_err(|e| StudyError::Config(format!("{e} (run {})", self.label())))
     }
 }
 
@@ -106,6 +117,7 @@ pub fn parse_runs(spec: &str, integrators: &[String]) -> Result<Vec<RunTemplate>
                 base: strategy.to_string(),
                 set: Vec::new(),
                 suffix: String::new(),
+                from: format!("--runs {item}"),
             });
         }
     }

@@ -33,7 +33,7 @@ use super::config::RunConfig;
 use super::StudyError;
 use crate::eval::reference::ReferenceSettings;
 use crate::physics::integrator_named;
-use crate::scene::LoadedScene;
+use crate::scene::{LoadedScene, Setting};
 use crate::strategies::strategy_names;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -51,8 +51,8 @@ pub struct Study {
     pub source: String,
     /// Scenes: embedded names or paths.
     pub scenes: Vec<String>,
-    /// Scene overrides for every run and the reference (`section.key=value`).
-    pub set: Vec<String>,
+    /// Scene overrides for every run and the reference.
+    pub set: Vec<Setting>,
     /// Simulated duration of every run and the reference (s), if not the scene's.
     pub duration: Option<f64>,
     /// The reference and its floor.
@@ -72,10 +72,13 @@ pub struct RunTemplate {
     pub integrator: Option<String>,
     /// The label's first part (default: the strategy).
     pub base: String,
-    /// Scene overrides of this run only (`section.key=value`).
-    pub set: Vec<String>,
+    /// Scene overrides of this run only.
+    pub set: Vec<Setting>,
     /// Label suffix from the swept values (`-h_min=0.04`), empty without a sweep.
     pub suffix: String,
+    /// Where the run was given, for messages about its grid and strategy (`study.toml:7:
+    /// runs[0]`, `--runs static@5`).
+    pub from: String,
 }
 
 impl RunTemplate {
@@ -91,6 +94,7 @@ impl RunTemplate {
             base: self.base.clone(),
             set: self.set.clone(),
             suffix: self.suffix.clone(),
+            from: self.from.clone(),
         }
     }
 }
@@ -105,7 +109,7 @@ struct StudyToml {
     scenes: Vec<Spanned<String>>,
     duration: Option<Spanned<f64>>,
     #[serde(default)]
-    set: BTreeMap<String, toml::Value>,
+    set: BTreeMap<String, Spanned<toml::Value>>,
     #[serde(default)]
     reference: ReferenceToml,
     runs: Vec<RunToml>,
@@ -146,7 +150,7 @@ struct RunToml {
     dt: Option<Spanned<f64>>,
     beta: Option<Spanned<f64>>,
     #[serde(default)]
-    set: BTreeMap<String, toml::Value>,
+    set: BTreeMap<String, Spanned<toml::Value>>,
     #[serde(default)]
     sweep: BTreeMap<String, Spanned<Vec<toml::Value>>>,
 }
@@ -158,12 +162,39 @@ struct Errors<'a> {
 }
 
 impl Errors<'_> {
-    fn at(&self, span: std::ops::Range<usize>, message: String) -> StudyError {
+    /// `FILE:LINE` of the start of `span`.
+    fn place(&self, span: std::ops::Range<usize>) -> String {
         let line = self.text[..span.start.min(self.text.len())]
             .matches('\n')
             .count()
             + 1;
-        StudyError::Config(format!("{}:{line}: {message}", self.source))
+        format!("{}:{line}", self.source)
+    }
+
+    fn at(&self, span: std::ops::Range<usize>, message: String) -> StudyError {
+        StudyError::Config(format!("{}: {message}", self.place(span)))
+    }
+
+    /// The setting `key=value` given at `span` under `table` (`set`, `runs[0].sweep`), placed
+    /// there for messages.
+    fn setting(
+        &self,
+        span: std::ops::Range<usize>,
+        table: &str,
+        key: &str,
+        value: &toml::Value,
+    ) -> Setting {
+        Setting::at(
+            format!("{key}={value}"),
+            format!("{}: {table}.\"{key}\" = {value}", self.place(span)),
+        )
+    }
+
+    /// Every key of `set` (written under `table`) as a placed setting.
+    fn settings(&self, table: &str, set: &BTreeMap<String, Spanned<toml::Value>>) -> Vec<Setting> {
+        set.iter()
+            .map(|(k, v)| self.setting(v.span(), table, k, v.get_ref()))
+            .collect()
     }
 
     fn spanned<T>(&self, v: &Spanned<T>, message: String) -> StudyError {
@@ -173,7 +204,7 @@ impl Errors<'_> {
 
 /// Reads and checks a study file; scene paths are made relative to its folder.
 pub fn load_study(path: &Path) -> Result<Study, StudyError> {
-    let text = std::fs::read_to_string(path).map_err(|e| {
+    let text = crate::io::read_text(path).map_err(|e| {
         StudyError::Config(format!("{}: cannot read study file: {e}", path.display()))
     })?;
     let stem = path
@@ -236,7 +267,7 @@ pub fn parse_study(
         description: file.description,
         source: source.to_string(),
         scenes,
-        set: overrides(&file.set),
+        set: err.settings("set", &file.set),
         duration: file.duration.map(|d| d.into_inner()),
         reference,
         runs,
@@ -251,11 +282,6 @@ fn scene_path(name: &str, dir: &Path) -> String {
     } else {
         name.to_string()
     }
-}
-
-/// `key=value` strings (values in TOML syntax) for the scene loader.
-fn overrides(set: &BTreeMap<String, toml::Value>) -> Vec<String> {
-    set.iter().map(|(k, v)| format!("{k}={v}")).collect()
 }
 
 fn reference_settings(r: &ReferenceToml, err: &Errors) -> Result<ReferenceSettings, StudyError> {
@@ -329,7 +355,19 @@ fn expand_run(run: &RunToml, index: usize, err: &Errors) -> Result<Vec<RunTempla
         integrator_named(i.get_ref())
             .map_err(|e| err.spanned(i, format!("runs[{index}].integrator: {e}")))?;
     }
-    let mut set = overrides(&run.set);
+    let mut set = err.settings(&format!("runs[{index}].set"), &run.set);
+    // `dt` and `beta` choose the time stepping; a message about either names the study key.
+    let stepping = |mode: &str, key: &str, v: &Spanned<f64>| {
+        let from = format!(
+            "{}: runs[{index}].{key} = {:?}",
+            err.place(v.span()),
+            v.get_ref()
+        );
+        [
+            Setting::at(format!("time.mode=\"{mode}\""), from.clone()),
+            Setting::at(format!("time.{key}={:?}", v.get_ref()), from),
+        ]
+    };
     match (&run.dt, &run.beta) {
         (Some(dt), Some(_)) => {
             return Err(err.spanned(
@@ -337,14 +375,8 @@ fn expand_run(run: &RunToml, index: usize, err: &Errors) -> Result<Vec<RunTempla
                 format!("runs[{index}]: give `dt` (fixed step) or `beta` (dynamic step), not both"),
             ));
         }
-        (Some(dt), None) => {
-            set.push("time.mode=\"fixed\"".into());
-            set.push(format!("time.dt={:?}", dt.get_ref()));
-        }
-        (None, Some(beta)) => {
-            set.push("time.mode=\"dynamic\"".into());
-            set.push(format!("time.beta={:?}", beta.get_ref()));
-        }
+        (Some(dt), None) => set.extend(stepping("fixed", "dt", dt)),
+        (None, Some(beta)) => set.extend(stepping("dynamic", "beta", beta)),
         (None, None) => {}
     }
     let base = run
@@ -359,6 +391,7 @@ fn expand_run(run: &RunToml, index: usize, err: &Errors) -> Result<Vec<RunTempla
         base,
         set,
         suffix: String::new(),
+        from: format!("{}: runs[{index}]", err.place(run.strategy.span())),
     }];
     for (key, values) in &run.sweep {
         if values.get_ref().is_empty() {
@@ -379,7 +412,8 @@ fn expand_run(run: &RunToml, index: usize, err: &Errors) -> Result<Vec<RunTempla
                 } else {
                     let short = key.rsplit('.').next().unwrap_or(key);
                     t.suffix.push_str(&format!("-{short}={v}"));
-                    t.set.push(format!("{key}={v}"));
+                    let table = format!("runs[{index}].sweep");
+                    t.set.push(err.setting(values.span(), &table, key, v));
                 }
                 next.push(t);
             }
@@ -421,6 +455,10 @@ mod tests {
         parse_study(text, "s.toml", "s", Path::new("."))
     }
 
+    fn args(set: &[Setting]) -> Vec<String> {
+        set.iter().map(|s| s.arg.clone()).collect()
+    }
+
     fn message(text: &str) -> String {
         parse(text).unwrap_err().to_string()
     }
@@ -449,7 +487,7 @@ sweep = { "adaptivity.l_min" = [0.08, 0.04], "adaptivity.max_depth" = [2, 3] }
     fn sweeps_expand_to_one_labelled_run_per_combination() {
         let s = parse(BASIC).unwrap();
         assert_eq!(s.name, "s");
-        assert_eq!(s.set, ["time.frame_rate=30"]);
+        assert_eq!(args(&s.set), ["time.frame_rate=30"]);
         assert_eq!(s.reference.resolution, 9);
         assert_eq!(
             s.reference.integrator.as_deref(),
@@ -473,13 +511,13 @@ sweep = { "adaptivity.l_min" = [0.08, 0.04], "adaptivity.max_depth" = [2, 3] }
                 "bisect48-5-rk4-l_min=0.04-max_depth=3",
             ]
         );
-        let fixed = &s.runs[0].set;
+        let fixed = &args(&s.runs[0].set);
         assert!(
             fixed.contains(&"time.mode=\"fixed\"".to_string()),
             "{fixed:?}"
         );
         assert!(fixed.contains(&"time.dt=0.002".to_string()), "{fixed:?}");
-        let last = &s.runs[5].set;
+        let last = &args(&s.runs[5].set);
         assert!(last.contains(&"adaptivity.l_min=0.04".to_string()));
         assert!(last.contains(&"adaptivity.max_depth=3".to_string()));
         assert!(last.contains(&"adaptivity.restore_energy=true".to_string()));
@@ -488,7 +526,7 @@ sweep = { "adaptivity.l_min" = [0.08, 0.04], "adaptivity.max_depth" = [2, 3] }
     #[test]
     fn run_settings_reach_the_run_and_not_the_reference() {
         let s = parse(BASIC).unwrap();
-        let plans = crate::study::plan(&s, |n| Path::new("out").join(n)).unwrap();
+        let plans = crate::study::plan(&s, |n| Path::new("out").join(n), false).unwrap();
         let base = &plans[0].loaded;
         // The study-wide set reaches the base scene (and so the reference)...
         assert_eq!(base.scene.time.frame_rate, 30.0);
@@ -538,10 +576,37 @@ sweep = { "adaptivity.l_min" = [0.08, 0.04], "adaptivity.max_depth" = [2, 3] }
     #[test]
     fn a_bad_scene_key_in_a_run_is_caught_before_anything_runs() {
         let s = parse("scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\nset = { \"cloth.nokey\" = 1 }\n").unwrap();
-        let e = crate::study::plan(&s, |n| Path::new("out").join(n)).unwrap_err();
+        let e = crate::study::plan(&s, |n| Path::new("out").join(n), false).unwrap_err();
         assert!(e.to_string().contains("cloth.nokey"), "{e}");
         let s = parse("scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\nset = { \"time.dt\" = -1.0 }\n").unwrap();
-        let e = crate::study::plan(&s, |n| Path::new("out").join(n)).unwrap_err();
+        let e = crate::study::plan(&s, |n| Path::new("out").join(n), false).unwrap_err();
         assert!(e.to_string().contains("time.dt"), "{e}");
+    }
+
+    #[test]
+    fn a_bad_scene_key_or_value_in_a_study_names_the_study_file_and_its_line() {
+        let head = "scenes = [\"sphere\"]\n\n[[runs]]\nstrategy = \"bisect48\"\n";
+        let cases = [
+            ("set = { \"adaptivity.h_min\" = -1 }\n", "s.toml:5: runs[0].set.\"adaptivity.h_min\" = -1: expected a finite value >= 0 (run bisect48-5-rk4)"),
+            ("set = { \"adaptivity.nokey\" = 1 }\n", "s.toml:5: runs[0].set.\"adaptivity.nokey\" = 1: no such scene key"),
+            ("set = { \"adaptivity.h_min\" = \"abc\" }\n", "s.toml:5: runs[0].set.\"adaptivity.h_min\" = \"abc\": invalid type"),
+            ("set = { \"adaptivity..x\" = 1 }\n", "s.toml:5: runs[0].set.\"adaptivity..x\" = 1: expected section.key=value"),
+            ("\nsweep = { \"adaptivity.h_min\" = [0.05, -2] }\n", "s.toml:6: runs[0].sweep.\"adaptivity.h_min\" = -2: expected a finite value >= 0 (run bisect48-5-rk4-h_min=-2)"),
+            ("dt = -0.5\n", "s.toml:5: runs[0].dt = -0.5: expected a finite value > 0"),
+            ("resolution = 100000\n", "s.toml:4: runs[0]: cloth.resolution = 100000: a 100000 x 100000 grid"),
+        ];
+        for (run, expected) in cases {
+            let s = parse(&format!("{head}{run}")).unwrap();
+            let e = crate::study::plan(&s, |n| Path::new("out").join(n), false).unwrap_err();
+            assert!(e.to_string().starts_with(expected), "{run}: {e}");
+        }
+        // The study-wide `set` too.
+        let s = parse("scenes = [\"sphere\"]\nset = { \"material.rho\" = 0 }\n[[runs]]\nstrategy = \"static\"\n").unwrap();
+        let e = crate::study::plan(&s, |n| Path::new("out").join(n), false).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("s.toml:2: set.\"material.rho\" = 0: expected a finite value > 0"),
+            "{e}"
+        );
     }
 }

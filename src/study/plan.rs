@@ -5,6 +5,7 @@ use super::config::{configs_for, RunConfig};
 use super::file::Study;
 use super::StudyError;
 use crate::scene::{self, LoadedScene, Overrides};
+use crate::sim::Simulation;
 use std::path::PathBuf;
 
 /// One scene of a study, ready to run.
@@ -18,9 +19,14 @@ pub struct ScenePlan {
     pub out: PathBuf,
 }
 
-/// Loads every scene of `study`, builds its configurations and checks every run's scene;
-/// `out(scene_name)` is the output folder of a scene.
-pub fn plan(study: &Study, out: impl Fn(&str) -> PathBuf) -> Result<Vec<ScenePlan>, StudyError> {
+/// Loads every scene of `study`, builds its configurations and checks every run's scene, and,
+/// unless `force`, that no run is estimated at more steps than a run may take
+/// ([`Simulation::check_step_estimate`]); `out(scene_name)` is the output folder of a scene.
+pub fn plan(
+    study: &Study,
+    out: impl Fn(&str) -> PathBuf,
+    force: bool,
+) -> Result<Vec<ScenePlan>, StudyError> {
     let overrides = Overrides {
         set: study.set.clone(),
         duration: study.duration,
@@ -30,6 +36,11 @@ pub fn plan(study: &Study, out: impl Fn(&str) -> PathBuf) -> Result<Vec<ScenePla
     for name in &study.scenes {
         let loaded = scene::resolve(Some(name), &overrides)?;
         let configs = configs_for(&study.runs, &loaded)?;
+        if !force {
+            for c in &configs {
+                check_steps(&loaded, c)?;
+            }
+        }
         let out = out(&loaded.scene.name);
         plans.push(ScenePlan {
             loaded,
@@ -38,4 +49,19 @@ pub fn plan(study: &Study, out: impl Fn(&str) -> PathBuf) -> Result<Vec<ScenePla
         });
     }
     Ok(plans)
+}
+
+/// Fails when the run of `config` on `base` is estimated at more steps than a run may take. A
+/// run that cannot be set up passes: it fails on its own, as a row of the comparison.
+fn check_steps(base: &LoadedScene, config: &RunConfig) -> Result<(), StudyError> {
+    let Ok(simulation) = Simulation::new(&config.scene(base)?) else {
+        return Ok(());
+    };
+    simulation.check_step_estimate().map_err(|e| {
+        StudyError::Config(format!(
+            "run {}: {e}; {}",
+            config.label(),
+            crate::sim::FORCE_HINT
+        ))
+    })
 }

@@ -114,6 +114,9 @@ impl Adaptivity for Bisect48 {
 
         // Refinement.
         for &(e, _) in &selection.refine {
+            if ctx.interrupted() {
+                return Ok(target.report);
+            }
             let mesh = &target.cloth.mesh;
             let Some(faces) = mesh.edge(e.0, e.1) else {
                 continue; // split earlier in this call
@@ -153,6 +156,9 @@ impl Adaptivity for Bisect48 {
             .filter(|&v| labels.split_origin(&target.cloth.mesh, v).is_some())
             .collect();
         for p in candidates {
+            if ctx.interrupted() {
+                break;
+            }
             let mesh = &target.cloth.mesh;
             if !mesh.is_vertex(p) || !labels.is_mergeable(mesh, p) {
                 continue;

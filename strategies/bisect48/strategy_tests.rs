@@ -35,6 +35,7 @@ fn fold_is_refined_and_flat_cloth_merges_back_after_t_simplify() {
         obstacles: &obstacles,
         time,
         params: &spec,
+        interrupt: None,
     };
     // A flat cloth at rest: nothing to do.
     let r = s.adapt(&mut cloth, &ctx(0.0)).unwrap();

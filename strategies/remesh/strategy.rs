@@ -142,6 +142,9 @@ impl Adaptivity for Remesh {
         let mut fresh = BTreeSet::new();
         let refine: Vec<EdgeKey> = selection.refine.iter().map(|(e, _)| *e).collect();
         for group in components(&target.cloth.mesh, &refine) {
+            if ctx.interrupted() {
+                return Ok(target.report);
+            }
             let mode = Mode::Refine;
             self.apply(&mut target, ctx.time, &group, mode, &params, &mut fresh);
         }
@@ -159,6 +162,9 @@ impl Adaptivity for Remesh {
             })
             .collect();
         for group in components(&target.cloth.mesh, &simplify) {
+            if ctx.interrupted() {
+                break;
+            }
             let mode = Mode::Simplify;
             self.apply(&mut target, ctx.time, &group, mode, &params, &mut fresh);
         }

@@ -193,6 +193,7 @@ fn adapt_compressed(
         obstacles: &obstacles,
         time: 1.0,
         params: spec,
+        interrupt: None,
     };
     let report = s.adapt(&mut cloth, &ctx).unwrap();
     cloth.refresh();

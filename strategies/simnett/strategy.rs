@@ -109,6 +109,9 @@ impl Adaptivity for Simnett {
         }
         let mut target = ctx.edit_target(cloth);
         for (e, reason) in sel.refine {
+            if ctx.interrupted() {
+                return Ok(target.report);
+            }
             let x = &target.cloth.x;
             let length = (x[e.1 .0 as usize] - x[e.0 .0 as usize]).norm();
             let done: Result<Vec<OpRecord>, OpError> = if spec.force_completion {
@@ -132,6 +135,9 @@ impl Adaptivity for Simnett {
             }
         }
         for p in merge_candidates(h, &sel.simplify, now, spec.t_simplify) {
+            if ctx.interrupted() {
+                break;
+            }
             match h.merge_edge(&mut target, p, now) {
                 Ok(_) => {}
                 Err(OpError::Edit(err)) => return Err(err.into()),

@@ -264,6 +264,7 @@ fn collision_split_projects_the_new_vertex_onto_the_obstacle_surface() {
         obstacles: &obstacles,
         time: 0.0,
         params: &spec,
+        interrupt: None,
     };
     let report = s.adapt(&mut cloth, &ctx).unwrap();
     assert!(report.events > 0);
@@ -313,6 +314,7 @@ fn fold_refines_by_curvature_up_to_max_depth_and_flat_cloth_merges_back() {
             obstacles: &obstacles,
             time: t,
             params: &spec,
+            interrupt: None,
         };
         let r = s.adapt(&mut cloth, &ctx).unwrap();
         cloth.refresh();
@@ -346,6 +348,7 @@ fn fold_refines_by_curvature_up_to_max_depth_and_flat_cloth_merges_back() {
             obstacles: &obstacles,
             time: t,
             params: &spec,
+            interrupt: None,
         };
         s.adapt(&mut cloth, &ctx).unwrap();
         cloth.refresh();

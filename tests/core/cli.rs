@@ -45,7 +45,50 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", "--set", "cloth.resolution=1"],
             "cloth.resolution",
         ),
-        (vec!["run", "--duration=-1"], "time.duration"),
+        (
+            vec!["run", "--duration=-1"],
+            "--duration -1: expected a finite value > 0",
+        ),
+        // Found by the hostile sweep after issue 15: allocation aborts and endless reads.
+        (
+            vec![
+                "compare",
+                "--ref-resolution",
+                "100000",
+                "--out",
+                "/nonexistent/o",
+            ],
+            "a grid may have at most 4000000 vertices",
+        ),
+        (
+            vec![
+                "compare",
+                "--samples",
+                "100000000",
+                "--out",
+                "/nonexistent/o",
+            ],
+            "the sample grid at most 1000 points per side",
+        ),
+        (vec!["run", "/dev/zero"], "not a regular file"),
+        (vec!["study", "/dev/zero"], "not a regular file"),
+        (
+            vec!["compare", "--docs-notes", "/dev/zero"],
+            "not a regular file",
+        ),
+        (
+            vec!["render", "/dev/zero", "--out", "/nonexistent/x.png"],
+            "not a regular file",
+        ),
+        (
+            vec!["frame-diff", "/dev/zero", "/dev/zero"],
+            "not a regular file",
+        ),
+        // The sizing criteria on a run that never adapts (the scene says static).
+        (
+            vec!["run", "--set", "adaptivity.criteria=\"sizing\""],
+            "strategy `static` never adapts the mesh",
+        ),
         // Values that passed validation and panicked later (issue 15, defect 1).
         (vec!["run", "--set", "cloth.size=[1.0, nan]"], "cloth.size"),
         (vec!["run", "--set", "cloth.size=[1.0, inf]"], "cloth.size"),
@@ -112,7 +155,7 @@ fn bad_input_exits_2_with_a_clear_message() {
         ),
         (
             vec!["run", "--set", "cloth.resolution_v=100000000"],
-            "--set cloth.resolution_v=100000000: cloth.resolution_v",
+            "--set cloth.resolution_v=100000000: a 5 x 100000000 grid",
         ),
         (
             vec![
@@ -160,6 +203,78 @@ fn force_runs_a_run_refused_by_the_step_estimate() {
     assert_eq!(code, 1, "{err}");
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
     assert!(summary.contains("\"status\": \"diverged\""), "{summary}");
+}
+
+/// `study --force` and `compare --force` run what the step estimate refuses, run by run; the
+/// reference is checked whatever `--force` says.
+#[test]
+fn study_and_compare_force_reaches_every_run_but_not_the_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("f.toml");
+    std::fs::write(
+        &file,
+        "scenes = [\"sphere\"]\nduration = 0.02\n[reference]\nresolution = 5\nfloor = 3\n\
+         samples = 4\n[[runs]]\nstrategy = \"static\"\nresolution = 3\nset = { \
+         \"time.dt_initial\" = 1e-300, \"cloth.velocity\" = [0.0, 0.0, 1.0], \
+         \"time.max_speed\" = 0.5 }\n",
+    )
+    .unwrap();
+    let (out, cache) = (dir.path().join("o"), dir.path().join("cache"));
+    let mut args = vec![
+        "study",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+        "--quiet",
+    ];
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("run static-3-rk4: this run would take"),
+        "{err}"
+    );
+    assert!(err.contains("--force runs it anyway"), "{err}");
+    assert!(!cache.exists(), "nothing runs before the check");
+    args.push("--force");
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 0, "{err}");
+    let summary = std::fs::read_to_string(out.join("sphere/runs/static-3-rk4/summary.json"));
+    assert!(summary.unwrap().contains("\"status\": \"diverged\""));
+    for command in ["study", "compare"] {
+        let help = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+            .args([command, "--help"])
+            .output()
+            .unwrap();
+        let help = String::from_utf8_lossy(&help.stdout).into_owned();
+        assert!(
+            help.lines()
+                .any(|l| l.trim() == "--force" || l.trim().starts_with("--force ")),
+            "{command}: {help}"
+        );
+    }
+    let (code, err) = adaptcloth(&[
+        "compare",
+        "--runs",
+        "static@3",
+        "--set",
+        "material.E=1e308",
+        "--ref-resolution",
+        "5",
+        "--floor-resolution",
+        "3",
+        "--cache",
+        cache.to_str().unwrap(),
+        "--out",
+        dir.path().join("c").to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("the reference run of <embedded sphere> (not covered by --force)"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -488,7 +603,7 @@ fn errors_name_the_key_and_its_own_line() {
     for (args, needle) in [
         (
             ["run", "--set", "obstacles.0.radius=\"big\""],
-            "--set obstacles.0.radius=\"big\": obstacles.0.radius = \"big\": invalid type",
+            "--set obstacles.0.radius=\"big\": invalid type",
         ),
         (
             ["run", "--set", "cloth.pinned=[[5.0, 5.0]]"],

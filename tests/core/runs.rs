@@ -164,6 +164,81 @@ fn interrupt_stops_cleanly() {
     assert!(dir.path().join("frames/frame_00000.obj").is_file());
 }
 
+/// The adaptation pass honours the interrupt flag: with the flag set, a step edits nothing
+/// (without it, the same step refines), so Ctrl-C is answered within the pass.
+#[test]
+fn an_interrupt_stops_the_adaptation_pass() {
+    let loaded = scene(
+        "sphere",
+        &[
+            "adaptivity.strategy=\"bisect48\"",
+            "cloth.resolution=9",
+            "adaptivity.criteria=\"sizing\"",
+            "adaptivity.h_min=0.02",
+            "adaptivity.l_min=0.01",
+            "adaptivity.l_max=0.05",
+        ],
+    );
+    let vertices_after_one_step = |flag: bool| {
+        let mut s = Simulation::new(&loaded).unwrap();
+        s.set_interrupt(Arc::new(AtomicBool::new(flag)));
+        s.step().unwrap();
+        s.cloth.mesh.vertex_count()
+    };
+    assert!(vertices_after_one_step(false) > 81);
+    assert_eq!(vertices_after_one_step(true), 81);
+}
+
+/// A run interrupted during a long adaptation pass stops within the pass with status
+/// `interrupted` and its summary written. The first pass is long: the sizing field asks a
+/// 150 x 150 grid for several rounds of refinement (about 180k vertices, seconds in one step).
+#[test]
+fn a_run_interrupted_during_adaptation_stops_cleanly() {
+    let loaded = scene(
+        "sphere",
+        &[
+            "adaptivity.strategy=\"bisect48\"",
+            "cloth.resolution=150",
+            "adaptivity.rounds=16",
+            "adaptivity.criteria=\"sizing\"",
+            "adaptivity.h_min=0.002",
+            "adaptivity.l_min=0.001",
+            "adaptivity.l_max=0.003",
+            "adaptivity.max_vertices=4000000",
+            "time.mode=\"fixed\"",
+            "time.dt=1e-6",
+            "time.duration=1e-5",
+        ],
+    );
+    let mut s = Simulation::new(&loaded).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let flag = Arc::new(AtomicBool::new(false));
+    let opts = RunOptions {
+        out_dir: dir.path().to_path_buf(),
+        progress: false,
+        interrupt: Some(flag.clone()),
+        source: "test".into(),
+        ..RunOptions::default()
+    };
+    let clock = std::time::Instant::now();
+    let setter = std::thread::spawn(move || {
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        flag.store(true, std::sync::atomic::Ordering::SeqCst);
+    });
+    let summary = sim::run(&mut s, &opts).unwrap();
+    setter.join().unwrap();
+    let wall = clock.elapsed().as_secs_f64();
+    assert_eq!(
+        summary.status,
+        RunStatus::Interrupted,
+        "{}",
+        summary.message
+    );
+    assert!(wall < 1.3, "answered the interrupt after {wall:.2} s");
+    let json = std::fs::read_to_string(dir.path().join("summary.json")).unwrap();
+    assert!(json.contains("\"interrupted\""), "{json}");
+}
+
 /// A mesh that adaptation grows past `adaptivity.max_vertices` stops the run with status
 /// `failed`, a message naming the cap and the key, and complete outputs (issue 15: `l_min = 1e-9`
 /// with a deep `max_depth` grew without bound).

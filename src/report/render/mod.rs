@@ -20,6 +20,7 @@ mod raster;
 mod text;
 
 pub use obstacles::obstacle_meshes;
+pub(crate) use picture::encode_png;
 pub use picture::{render_png, snapshot_grid, SnapshotRow};
 
 use std::path::PathBuf;

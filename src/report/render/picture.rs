@@ -215,26 +215,36 @@ fn time_label(t: f64, decimals: usize) -> String {
     format!("t = {t:.decimals$} s")
 }
 
-/// Writes RGB bytes as an 8-bit PNG.
+/// Writes RGB bytes as an 8-bit PNG, atomically ([`crate::io::write_atomic`]): a failed write
+/// leaves `path` as it was and no temporary file.
 pub(crate) fn write_png(
     path: &Path,
     width: u32,
     height: u32,
     rgb: &[u8],
 ) -> Result<(), RenderError> {
-    let io = |source| RenderError::Io {
+    let bytes = encode_png(width, height, rgb).map_err(|source| RenderError::Png {
         path: path.to_path_buf(),
         source,
-    };
-    let png_err = |source| RenderError::Png {
+    })?;
+    crate::io::write_atomic(path, &bytes).map_err(|source| RenderError::Io {
         path: path.to_path_buf(),
         source,
-    };
-    let file = std::fs::File::create(path).map_err(io)?;
-    let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), width, height);
+    })
+}
+
+/// RGB bytes (`width x height x 3`) encoded as an 8-bit PNG in memory.
+pub(crate) fn encode_png(
+    width: u32,
+    height: u32,
+    rgb: &[u8],
+) -> Result<Vec<u8>, png::EncodingError> {
+    let mut bytes = Vec::new();
+    let mut encoder = png::Encoder::new(&mut bytes, width, height);
     encoder.set_color(png::ColorType::Rgb);
     encoder.set_depth(png::BitDepth::Eight);
-    let mut writer = encoder.write_header().map_err(png_err)?;
-    writer.write_image_data(rgb).map_err(png_err)?;
-    writer.finish().map_err(png_err)
+    let mut writer = encoder.write_header()?;
+    writer.write_image_data(rgb)?;
+    writer.finish()?;
+    Ok(bytes)
 }

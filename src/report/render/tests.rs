@@ -277,3 +277,21 @@ fn pictures_are_deterministic_pngs_and_bad_sizes_are_errors() {
     let reader = decoder.read_info().unwrap();
     assert_eq!(reader.info().height, 30 + 2 * 270);
 }
+
+/// A picture replaces its file by a rename: a hard link to the old file keeps the old bytes, and
+/// a failed write leaves no temporary file.
+#[test]
+fn pictures_are_written_atomically() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("p.png");
+    std::fs::write(&path, "old").unwrap();
+    std::fs::hard_link(&path, dir.path().join("link")).unwrap();
+    let rgb = vec![200u8; 4 * 3 * 3];
+    picture::write_png(&path, 4, 3, &rgb).unwrap();
+    assert_eq!(std::fs::read(dir.path().join("link")).unwrap(), b"old");
+    assert!(std::fs::read(&path).unwrap().starts_with(b"\x89PNG"));
+    let folder = dir.path().join("folder.png");
+    std::fs::create_dir(&folder).unwrap();
+    assert!(picture::write_png(&folder, 4, 3, &rgb).is_err());
+    assert!(!dir.path().join("folder.png.tmp").exists());
+}
