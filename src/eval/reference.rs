@@ -15,7 +15,7 @@
 //! scene's frames.
 
 use super::metrics::{self, ErrorReport};
-use crate::scene::{ClothShape, LoadedScene, ObstacleShape, Scene};
+use crate::scene::{ClothShape, IntegratorSpec, LoadedScene, ObstacleShape, Scene};
 use crate::sim::{self, RunOptions, RunStatus, RunSummary, SamplePoints, Simulation, Trajectory};
 use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
@@ -216,18 +216,32 @@ pub fn static_variant(
 
 /// The physics parameters of a scene as they enter the key: name, description and the metrics
 /// rate normalised away, and the adaptivity section left out (a reference is static, and new
-/// adaptivity keys must not invalidate cached references).
+/// adaptivity keys must not invalidate cached references). Integrator keys added after the cache
+/// format ([`LATER_INTEGRATOR_KEYS`]) are left out at their default values, so the references
+/// cached before they existed keep their keys; a non-default value still changes the key.
 pub fn physics_json(scene: &Scene) -> serde_json::Value {
     let mut s = scene.clone();
     s.name.clear();
     s.description.clear();
     s.time.metrics_rate = 0.0;
     let mut value = serde_json::to_value(&s).expect("a scene serializes");
+    let defaults = serde_json::to_value(IntegratorSpec::default()).expect("serializes");
     if let Some(fields) = value.as_object_mut() {
         fields.remove("adaptivity");
+        if let Some(integrator) = fields.get_mut("integrator").and_then(|i| i.as_object_mut()) {
+            for key in LATER_INTEGRATOR_KEYS {
+                if integrator.get(key) == defaults.get(key) {
+                    integrator.remove(key);
+                }
+            }
+        }
     }
     value
 }
+
+/// `[integrator]` keys that came after cached references existed (issue 13): they enter
+/// [`physics_json`] only when set to a non-default value.
+const LATER_INTEGRATOR_KEYS: [&str; 1] = ["on_unconverged"];
 
 /// The cache key of the reference of `base` under `settings` (16 hex digits).
 pub fn cache_key(base: &LoadedScene, settings: &ReferenceSettings) -> String {
@@ -546,6 +560,34 @@ mod tests {
     fn sphere(overrides: &[&str]) -> LoadedScene {
         let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
         load_embedded("sphere", &o).unwrap().unwrap()
+    }
+
+    /// Integrator keys that came after cached references existed (issue 13) stay out of the key
+    /// at their defaults, so the `[integrator]` part is the one those references were keyed
+    /// with; a non-default value changes the key.
+    #[test]
+    fn later_integrator_keys_enter_the_cache_key_only_when_set() {
+        let json = physics_json(&sphere(&[]).scene);
+        let mut keys: Vec<&str> = json["integrator"]
+            .as_object()
+            .unwrap()
+            .keys()
+            .map(String::as_str)
+            .collect();
+        keys.sort_unstable();
+        assert_eq!(
+            keys,
+            [
+                "cg_max_iterations",
+                "cg_tolerance",
+                "name",
+                "relaxation_passes"
+            ]
+        );
+        let settings = ReferenceSettings::default();
+        let base = cache_key(&sphere(&[]), &settings);
+        let fail = sphere(&["integrator.on_unconverged=\"fail\""]);
+        assert_ne!(base, cache_key(&fail, &settings));
     }
 
     #[test]

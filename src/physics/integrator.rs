@@ -65,8 +65,10 @@ pub trait Dynamics {
 pub struct StepStats {
     /// Conjugate-gradient iterations of the step (`implicit_euler`; 0 for the others).
     pub cg_iterations: usize,
-    /// True when the linear solve stopped at its iteration cap before reaching its tolerance.
-    pub cg_capped: bool,
+    /// True when the step's linear solve ended above its tolerance: conjugate gradients stopped
+    /// at their iteration cap (or broke down) first. The step was taken with the last iterate.
+    /// False for a solve cut short by an interrupt (the run stops after that step anyway).
+    pub unconverged: bool,
 }
 
 /// A time integrator over `(x, v)`.

@@ -18,7 +18,7 @@ use crate::collision::{ContactStats, Obstacles};
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{Barycentric, RestLocator};
 use crate::physics::{make_integrator, Integrator, StepStats};
-use crate::scene::{LoadedScene, Scene, TimeMode, MAX_STEPS};
+use crate::scene::{LoadedScene, OnUnconverged, Scene, TimeMode, MAX_STEPS};
 use crate::strategies::make_strategy;
 use std::time::{Duration, Instant};
 
@@ -63,6 +63,16 @@ pub enum StepError {
         /// What was seen.
         reason: String,
     },
+    /// A linear solve ended above its tolerance with `integrator.on_unconverged = "fail"`.
+    #[error("the implicit solve did not converge at step {step}, t = {t:.6} s: {reason}")]
+    Unconverged {
+        /// Step number.
+        step: u64,
+        /// Simulated time (s).
+        t: Real,
+        /// What the solver reported.
+        reason: String,
+    },
     /// Adaptation failed.
     #[error("adaptation failed at step {step}, t = {t:.6} s: {reason}")]
     Adapt {
@@ -73,6 +83,15 @@ pub enum StepError {
         /// The error.
         reason: String,
     },
+}
+
+/// Steps whose linear solve did not go as asked, counted over a run (`implicit_euler`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SolveCounts {
+    /// Steps whose solve ended above its tolerance ([`StepStats::unconverged`]).
+    pub unconverged: u64,
+    /// Step number and simulated time (s) at the end of the first of them.
+    pub first_unconverged: Option<(u64, Real)>,
 }
 
 /// A material point tracked through the run.
@@ -113,6 +132,8 @@ pub struct Simulation {
     drivers: Vec<(usize, Vec3)>,
     /// Wall time per stage.
     pub stage_times: StageTimes,
+    /// Linear solves that ended above their tolerance so far.
+    pub solves: SolveCounts,
 }
 
 impl Simulation {
@@ -159,6 +180,7 @@ impl Simulation {
             last_adapt: None,
             drivers,
             stage_times: StageTimes::default(),
+            solves: SolveCounts::default(),
         })
     }
 
@@ -290,6 +312,7 @@ impl Simulation {
         self.t += dt;
         self.steps += 1;
         self.check_finite()?;
+        self.count_solve(&integrator)?;
 
         let clock = Instant::now();
         let adapt = if self.adapt_due() {
@@ -390,6 +413,40 @@ impl Simulation {
                 p.location = loc;
             }
         }
+    }
+
+    /// Counts the step just taken in [`Simulation::solves`] when its linear solve ended above
+    /// tolerance, and then fails under `integrator.on_unconverged = "fail"`.
+    fn count_solve(&mut self, stats: &StepStats) -> Result<(), StepError> {
+        if !stats.unconverged {
+            return Ok(());
+        }
+        self.solves.unconverged += 1;
+        self.solves
+            .first_unconverged
+            .get_or_insert((self.steps, self.t));
+        let i = &self.scene.integrator;
+        if i.on_unconverged == OnUnconverged::Fail {
+            return Err(StepError::Unconverged {
+                step: self.steps,
+                t: self.t,
+                reason: format!(
+                    "{}; integrator.on_unconverged = \"fail\" ends the run",
+                    self.unconverged_reason(stats)
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// What an unconverged solve did, for messages: its iterations against the scene's limits.
+    fn unconverged_reason(&self, stats: &StepStats) -> String {
+        let i = &self.scene.integrator;
+        format!(
+            "conjugate gradients stopped after {} iterations above the relative tolerance \
+             integrator.cg_tolerance = {:e} (integrator.cg_max_iterations = {})",
+            stats.cg_iterations, i.cg_tolerance, i.cg_max_iterations
+        )
     }
 
     /// Fails when a live vertex has a non-finite position or velocity, or moves faster than the

@@ -45,7 +45,8 @@ impl Cg {
 
     /// Solves `A_f dv = b` of `system` (built from `model`) for `dv` (m/s, overwritten), from
     /// `dv = 0`. Stops early, with the current iterate, once `interrupt` is set (checked every
-    /// few iterations). Reports the iterations and whether the cap was reached above tolerance.
+    /// few iterations). Reports the iterations and whether the solve ended above tolerance (at
+    /// the cap or at a breakdown; an interrupted solve is not counted as unconverged).
     pub(super) fn solve(
         &mut self,
         system: &System,
@@ -81,7 +82,10 @@ impl Cg {
         while iterations < self.max_iterations {
             let interrupted = || interrupt.is_some_and(|f| f.load(Ordering::Relaxed));
             if iterations % INTERRUPT_CHECK == 0 && interrupted() {
-                break;
+                return StepStats {
+                    cg_iterations: iterations,
+                    unconverged: false,
+                };
             }
             iterations += 1;
             system.apply(model, &self.p, &mut self.q);
@@ -97,7 +101,7 @@ impl Cg {
             if dot(&self.r, &self.r).sqrt() <= stop {
                 return StepStats {
                     cg_iterations: iterations,
-                    cg_capped: false,
+                    unconverged: false,
                 };
             }
             for i in 0..n {
@@ -112,7 +116,7 @@ impl Cg {
         }
         StepStats {
             cg_iterations: iterations,
-            cg_capped: dot(&self.r, &self.r).sqrt() > stop,
+            unconverged: dot(&self.r, &self.r).sqrt() > stop,
         }
     }
 }

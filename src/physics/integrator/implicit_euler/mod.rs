@@ -22,7 +22,7 @@
 //! - Preconditioned conjugate gradients with the block-Jacobi preconditioner (the inverse of each
 //!   vertex's 3x3 diagonal block), starting from `dv = 0`, stopping at
 //!   `|r| <= tolerance |b|` or the iteration cap (the step is then taken with the last iterate and
-//!   [`StepStats::cg_capped`] set).
+//!   [`StepStats::unconverged`] set).
 //!
 //! Without a [`crate::physics::ForceModel`] behind the dynamics (no Jacobians), the matrix is `M`
 //! and the scheme reduces to symplectic Euler.
