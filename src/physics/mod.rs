@@ -26,4 +26,4 @@ pub use integrator::{
     integrator_named, make_integrator, Dynamics, Euler, EulerKind, ImplicitEuler, Integrator, Rk4,
     Step, StepStats, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
 };
-pub use params::{Forces, IntegratorParams, Material, SpringMode, StiffnessModel};
+pub use params::{Forces, IntegratorParams, LinearSolver, Material, SpringMode, StiffnessModel};

@@ -267,6 +267,18 @@ impl Default for TimeSpec {
     }
 }
 
+/// How `implicit_euler` solves its linear system.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum LinearSolver {
+    /// Block-Jacobi preconditioned conjugate gradients, matrix-free.
+    #[default]
+    Cg,
+    /// Sparse Cholesky of the assembled matrix (conjugate gradients for a step whose
+    /// factorisation fails, counted in `solver_fallbacks` of summary.json).
+    Cholesky,
+}
+
 /// What a run does when a step's linear solve ends above its tolerance (`implicit_euler`).
 #[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
 #[serde(rename_all = "snake_case")]
@@ -290,6 +302,8 @@ pub struct IntegratorSpec {
     pub cg_tolerance: Real,
     /// `implicit_euler`: iteration cap of conjugate gradients per step. Default 200.
     pub cg_max_iterations: usize,
+    /// `implicit_euler`: the linear solver, `cg` or `cholesky`. Default `cg`.
+    pub solver: LinearSolver,
     /// `implicit_euler`: what a step whose solve ends above `cg_tolerance` does to the run:
     /// `warn` or `fail`. Default `warn`.
     pub on_unconverged: OnUnconverged,
@@ -304,6 +318,7 @@ impl Default for IntegratorSpec {
             name: "rk4".into(),
             cg_tolerance: 1e-6,
             cg_max_iterations: 200,
+            solver: LinearSolver::Cg,
             on_unconverged: OnUnconverged::Warn,
             relaxation_passes: 4,
         }

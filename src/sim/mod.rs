@@ -92,6 +92,9 @@ pub struct SolveCounts {
     pub unconverged: u64,
     /// Step number and simulated time (s) at the end of the first of them.
     pub first_unconverged: Option<(u64, Real)>,
+    /// Steps whose direct solve failed and fell back to conjugate gradients
+    /// ([`StepStats::solver_fallback`]).
+    pub fallbacks: u64,
 }
 
 /// A material point tracked through the run.
@@ -415,9 +418,11 @@ impl Simulation {
         }
     }
 
-    /// Counts the step just taken in [`Simulation::solves`] when its linear solve ended above
-    /// tolerance, and then fails under `integrator.on_unconverged = "fail"`.
+    /// Counts the step just taken in [`Simulation::solves`] when its direct solve fell back to
+    /// CG or its solve ended above tolerance, and then fails under
+    /// `integrator.on_unconverged = "fail"`.
     fn count_solve(&mut self, stats: &StepStats) -> Result<(), StepError> {
+        self.solves.fallbacks += u64::from(stats.solver_fallback);
         if !stats.unconverged {
             return Ok(());
         }

@@ -88,6 +88,8 @@ pub struct RunSummary {
     pub max_penetration: Real,
     /// Steps whose linear solve ended above its tolerance (`implicit_euler`; 0 otherwise).
     pub cg_unconverged: u64,
+    /// Steps whose direct solve failed and were solved by CG (`integrator.solver = "cholesky"`).
+    pub solver_fallbacks: u64,
     /// How the run ended.
     pub status: RunStatus,
     /// Why it stopped, when not completed.
@@ -250,6 +252,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         frames,
         max_penetration,
         cg_unconverged: sim.solves.unconverged,
+        solver_fallbacks: sim.solves.fallbacks,
         status,
         message,
         stage_times: sim.stage_times,

@@ -84,7 +84,7 @@ impl Cg {
             if iterations % INTERRUPT_CHECK == 0 && interrupted() {
                 return StepStats {
                     cg_iterations: iterations,
-                    unconverged: false,
+                    ..StepStats::default()
                 };
             }
             iterations += 1;
@@ -101,7 +101,7 @@ impl Cg {
             if dot(&self.r, &self.r).sqrt() <= stop {
                 return StepStats {
                     cg_iterations: iterations,
-                    unconverged: false,
+                    ..StepStats::default()
                 };
             }
             for i in 0..n {
@@ -117,6 +117,7 @@ impl Cg {
         StepStats {
             cg_iterations: iterations,
             unconverged: dot(&self.r, &self.r).sqrt() > stop,
+            ..StepStats::default()
         }
     }
 }

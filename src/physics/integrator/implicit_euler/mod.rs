@@ -3,9 +3,9 @@
 //! One Newton step of backward Euler on `(x, v)`:
 //! `(M - dt df/dv - dt² df/dx) dv = dt (f + dt df/dx v)`, then `v += dv`, `x += dt v`.
 //!
-//! - The system is never assembled: it is `M + dt C + sum_j P_j^T B_j P_j`, with one symmetric
-//!   3x3 block `B_j = dt D_j + dt² K_j` per spring (stored, rebuilt every step in place) and the
-//!   per-vertex mass and drag; the product sweeps the springs like the force kernel does.
+//! - The system is kept in element form ([`system`]): `M + dt C + sum_j P_j^T B_j P_j` plus the
+//!   bending terms, with one symmetric 3x3 block `B_j = dt D_j + dt² K_j` per spring (stored,
+//!   rebuilt every step in place) and the per-vertex mass and drag.
 //! - Spring Jacobians: elastic `K_j = k [u uᵀ + max(0, 1 - L0/L) (I - u uᵀ)]` for a spring that
 //!   resists (stretched, or any spring with `springs = "both"`), zero for a tension-only spring in
 //!   compression; the `max(0, ...)` drops the indefinite geometric term of a compressed spring, so
@@ -18,44 +18,60 @@
 //!   the tiny-elements case (1 cm cells, 1/240 s) the energy rose by 5 J, and it fell
 //!   monotonically once bending was removed (see `docs/integrators.md`).
 //! - Fixed slots (pinned vertices, free slots) are filtered constraints: their rows and columns
-//!   are zeroed (Baraff-Witkin's filter), so `dv = 0` there.
-//! - Preconditioned conjugate gradients with the block-Jacobi preconditioner (the inverse of each
-//!   vertex's 3x3 diagonal block), starting from `dv = 0`, stopping at
+//!   are those of the identity with a zero right-hand side (Baraff-Witkin's filter), so `dv = 0`
+//!   there.
+//! - Solver (`integrator.solver`, [`LinearSolver`]): `cg` ([`cg`]) is matrix-free preconditioned
+//!   conjugate gradients with the block-Jacobi preconditioner, from `dv = 0`, stopping at
 //!   `|r| <= tolerance |b|` or the iteration cap (the step is then taken with the last iterate and
-//!   [`StepStats::unconverged`] set).
+//!   [`StepStats::unconverged`] set). `cholesky` ([`cholesky`]) assembles the sparse matrix
+//!   ([`assembly`]) and factorises it, reusing the symbolic analysis while the topology is
+//!   unchanged; a step whose factorisation fails is solved by CG instead
+//!   ([`StepStats::solver_fallback`]). The matrix is symmetric positive definite (mass plus
+//!   positive semi-definite terms), so the factorisation fails only on round-off or a
+//!   non-finite state.
 //!
 //! Without a [`crate::physics::ForceModel`] behind the dynamics (no Jacobians), the matrix is `M`
 //! and the scheme reduces to symplectic Euler.
 
+mod assembly;
 mod cg;
+mod cholesky;
 mod system;
+#[cfg(test)]
+mod tests;
 
 use super::{fit, Dynamics, Integrator, Step, StepStats};
-use crate::math::Real;
 use crate::math::Vec3;
+use crate::physics::{IntegratorParams, LinearSolver};
 use cg::Cg;
+use cholesky::Cholesky;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use system::System;
 
-/// Linearised backward Euler solved by block-Jacobi preconditioned conjugate gradients.
-#[derive(Clone, Debug)]
+/// Linearised backward Euler, solved by conjugate gradients or sparse Cholesky.
+#[derive(Debug)]
 pub struct ImplicitEuler {
+    solver: LinearSolver,
     /// Set when the run is interrupted: CG stops at its next check.
     interrupt: Option<Arc<AtomicBool>>,
     system: System,
     cg: Cg,
+    cholesky: Cholesky,
     f: Vec<Vec3>,
     dv: Vec<Vec3>,
 }
 
 impl ImplicitEuler {
-    /// A solver stopping at relative residual `tolerance` or after `max_iterations`.
-    pub fn new(tolerance: Real, max_iterations: usize) -> ImplicitEuler {
+    /// An integrator with these options: `solver`, and CG's `cg_tolerance` (relative residual)
+    /// and `cg_max_iterations` (also used by a Cholesky step that falls back to CG).
+    pub fn new(params: &IntegratorParams) -> ImplicitEuler {
         ImplicitEuler {
+            solver: params.solver,
             interrupt: None,
             system: System::default(),
-            cg: Cg::new(tolerance, max_iterations),
+            cg: Cg::new(params.cg_tolerance, params.cg_max_iterations),
+            cholesky: Cholesky::default(),
             f: Vec::new(),
             dv: Vec::new(),
         }
@@ -84,7 +100,18 @@ impl Integrator for ImplicitEuler {
         model.forces(x, v, &mut self.f);
         self.system.build(model, dt, x, v, &self.f);
         let interrupt = self.interrupt.as_deref();
-        let stats = self.cg.solve(&self.system, model, interrupt, &mut self.dv);
+        let stats = match self.solver {
+            LinearSolver::Cg => self.cg.solve(&self.system, model, interrupt, &mut self.dv),
+            LinearSolver::Cholesky => {
+                match self.cholesky.solve(&self.system, model, &mut self.dv) {
+                    Ok(()) => StepStats::default(),
+                    Err(_) => StepStats {
+                        solver_fallback: true,
+                        ..self.cg.solve(&self.system, model, interrupt, &mut self.dv)
+                    },
+                }
+            }
+        };
         let w = model.inv_mass();
         for i in 0..n {
             if w[i] != 0.0 {
