@@ -36,6 +36,8 @@
 mod assembly;
 mod cg;
 mod cholesky;
+#[cfg(test)]
+mod diagnosis;
 mod system;
 #[cfg(test)]
 mod tests;
