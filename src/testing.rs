@@ -2,9 +2,11 @@
 
 use crate::cloth::Cloth;
 use crate::collision::{ContactParams, Obstacle, Obstacles};
-use crate::math::Vec3;
+use crate::math::{Real, Vec3};
 use crate::mesh::{union_jack, Mesh};
-use crate::physics::{Forces, Material};
+use crate::physics::{ForceModel, Forces, Material};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 /// A cloth of the default material and forces over `mesh` at world positions `x` (m), at rest.
 pub fn cloth(mesh: Mesh, x: Vec<Vec3>) -> Cloth {
@@ -47,4 +49,36 @@ pub fn folded_cloth(n: usize) -> Cloth {
 /// These obstacles with the default contact parameters.
 pub fn obstacles(list: &[Obstacle]) -> Obstacles {
     Obstacles::build(list, &ContactParams::default()).expect("valid test obstacles")
+}
+
+/// The force model of `material` and `forces` built over `mesh`.
+pub fn built(mesh: &Mesh, material: &Material, forces: &Forces) -> ForceModel {
+    let mut m = ForceModel::new(material, forces);
+    m.rebuild(mesh);
+    m
+}
+
+/// Rest coordinates lifted to the plane z = 0, one entry per slot.
+pub fn lifted(mesh: &Mesh) -> Vec<Vec3> {
+    let mut x = vec![Vec3::zeros(); mesh.vertex_slots()];
+    for v in mesh.vertices() {
+        let r = mesh.rest(v);
+        x[v.0 as usize] = Vec3::new(r.x, r.y, 0.0);
+    }
+    x
+}
+
+/// A randomly deformed state of `mesh`: rest positions plus noise of size `amp` (m), random
+/// velocities in [-1, 1] m/s.
+pub fn random_state(mesh: &Mesh, seed: u64, amp: Real) -> (Vec<Vec3>, Vec<Vec3>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let mut x = lifted(mesh);
+    let mut v = vec![Vec3::zeros(); x.len()];
+    for (xi, vi) in x.iter_mut().zip(v.iter_mut()) {
+        for k in 0..3 {
+            xi[k] += rng.random_range(-amp..amp);
+            vi[k] = rng.random_range(-1.0..1.0);
+        }
+    }
+    (x, v)
 }

@@ -42,18 +42,33 @@ unsafe impl GlobalAlloc for Counting {
 static GLOBAL: Counting = Counting;
 
 /// Steps of every shipped scene allocate nothing after a few warm-up steps (static strategy,
-/// with contacts: the round table and bunny scenes start close to their obstacles here).
+/// with contacts: the round table and bunny scenes start close to their obstacles here), with
+/// the scene's integrator and with `implicit_euler` under each of its solvers.
 #[test]
 fn steady_state_steps_do_not_allocate() {
     COUNTED.with(|c| c.set(true));
-    for (name, overrides) in [
-        ("sphere", vec!["cloth.center=[0.0, 0.0, 0.252]"]),
-        ("round_table", vec!["cloth.center=[0.0, 0.0, 0.752]"]),
-        ("bunny", vec!["cloth.center=[0.0, 0.0, 0.35]"]),
-        ("hanging", vec![]),
-    ] {
-        let mut overrides: Vec<String> = overrides.into_iter().map(String::from).collect();
-        overrides.push("cloth.resolution=9".into());
+    let scenes: [(&str, &[&str]); 4] = [
+        ("sphere", &["cloth.center=[0.0, 0.0, 0.252]"]),
+        ("round_table", &["cloth.center=[0.0, 0.0, 0.752]"]),
+        ("bunny", &["cloth.center=[0.0, 0.0, 0.35]"]),
+        ("hanging", &[]),
+    ];
+    let implicit = "integrator.name=\"implicit_euler\"";
+    let integrators = [
+        vec![],
+        vec![implicit, "integrator.solver=\"cg\""],
+        vec![implicit, "integrator.solver=\"cholesky\""],
+    ];
+    for ((name, setting), integrator) in scenes
+        .into_iter()
+        .flat_map(|s| integrators.iter().map(move |i| (s, i)))
+    {
+        let overrides: Vec<String> = setting
+            .iter()
+            .chain(integrator)
+            .chain(&["cloth.resolution=9"])
+            .map(|s| s.to_string())
+            .collect();
         let loaded = scene::load_embedded(name, &overrides).unwrap().unwrap();
         let mut sim = Simulation::new(&loaded).unwrap();
         let mut contacts = 0;
@@ -65,7 +80,10 @@ fn steady_state_steps_do_not_allocate() {
             contacts += sim.step().unwrap().contacts.contacts;
         }
         let allocated = ALLOCATIONS.load(Ordering::Relaxed) - before;
-        assert_eq!(allocated, 0, "{name}: {allocated} allocations in 200 steps");
+        assert_eq!(
+            allocated, 0,
+            "{name} {integrator:?}: {allocated} allocations in 200 steps"
+        );
         if name != "hanging" {
             assert!(
                 contacts > 0,

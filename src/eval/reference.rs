@@ -15,7 +15,7 @@
 //! scene's frames.
 
 use super::metrics::{self, ErrorReport};
-use crate::scene::{ClothShape, LoadedScene, ObstacleShape, Scene};
+use crate::scene::{ClothShape, IntegratorSpec, LoadedScene, ObstacleShape, Scene};
 use crate::sim::{self, RunOptions, RunStatus, RunSummary, SamplePoints, Simulation, Trajectory};
 use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
@@ -216,18 +216,32 @@ pub fn static_variant(
 
 /// The physics parameters of a scene as they enter the key: name, description and the metrics
 /// rate normalised away, and the adaptivity section left out (a reference is static, and new
-/// adaptivity keys must not invalidate cached references).
+/// adaptivity keys must not invalidate cached references). Integrator keys added after the cache
+/// format ([`LATER_INTEGRATOR_KEYS`]) are left out at their default values, so the references
+/// cached before they existed keep their keys; a non-default value still changes the key.
 pub fn physics_json(scene: &Scene) -> serde_json::Value {
     let mut s = scene.clone();
     s.name.clear();
     s.description.clear();
     s.time.metrics_rate = 0.0;
     let mut value = serde_json::to_value(&s).expect("a scene serializes");
+    let defaults = serde_json::to_value(IntegratorSpec::default()).expect("serializes");
     if let Some(fields) = value.as_object_mut() {
         fields.remove("adaptivity");
+        if let Some(integrator) = fields.get_mut("integrator").and_then(|i| i.as_object_mut()) {
+            for key in LATER_INTEGRATOR_KEYS {
+                if integrator.get(key) == defaults.get(key) {
+                    integrator.remove(key);
+                }
+            }
+        }
     }
     value
 }
+
+/// `[integrator]` keys that came after cached references existed (issue 13): they enter
+/// [`physics_json`] only when set to a non-default value.
+const LATER_INTEGRATOR_KEYS: [&str; 2] = ["solver", "on_unconverged"];
 
 /// The cache key of the reference of `base` under `settings` (16 hex digits).
 pub fn cache_key(base: &LoadedScene, settings: &ReferenceSettings) -> String {
@@ -567,135 +581,5 @@ pub fn describe(r: &Reference) -> String {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::scene::load_embedded;
-
-    fn sphere(overrides: &[&str]) -> LoadedScene {
-        let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
-        load_embedded("sphere", &o).unwrap().unwrap()
-    }
-
-    #[test]
-    fn cache_key_changes_with_physics_only() {
-        let settings = ReferenceSettings::default();
-        let base = cache_key(&sphere(&[]), &settings);
-        assert_eq!(base.len(), 16);
-        assert_eq!(base, cache_key(&sphere(&[]), &settings), "deterministic");
-        // Physics parameters change it.
-        for o in [
-            "material.E=2e7",
-            "material.rho=6001",
-            "obstacles.0.radius=0.3",
-            "time.duration=0.5",
-            "forces.drag=false",
-            "collision.margin=0.003",
-        ] {
-            assert_ne!(base, cache_key(&sphere(&[o]), &settings), "{o}");
-        }
-        // Reference settings change it.
-        for s in [
-            ReferenceSettings {
-                resolution: 33,
-                ..settings.clone()
-            },
-            ReferenceSettings {
-                beta: Some(0.02),
-                ..settings.clone()
-            },
-            ReferenceSettings {
-                samples: 32,
-                ..settings.clone()
-            },
-            ReferenceSettings {
-                dt_initial: None,
-                ..settings.clone()
-            },
-            ReferenceSettings {
-                integrator: Some("symplectic_euler".into()),
-                ..settings.clone()
-            },
-        ] {
-            assert_ne!(base, cache_key(&sphere(&[]), &s), "{s:?}");
-        }
-        // Output and adaptivity settings, the run's own grid, step and strategy do not (the
-        // reference replaces them), nor does the output folder (not an input of the key).
-        for o in [
-            "name=\"other\"",
-            "time.metrics_rate=50",
-            "adaptivity.l_min=0.05",
-            "adaptivity.strategy=\"remesh\"",
-            "cloth.resolution=9",
-            "time.beta=0.002",
-            "time.dt_initial=0.0002",
-        ] {
-            assert_eq!(base, cache_key(&sphere(&[o]), &settings), "{o}");
-        }
-        let mut moved = sphere(&[]);
-        moved.source = "/elsewhere/out".into();
-        assert_eq!(base, cache_key(&moved, &settings));
-    }
-
-    #[test]
-    fn fnv1a_known_values() {
-        // Test vectors of the FNV-1a 64-bit hash.
-        assert_eq!(fnv1a(FNV_OFFSET, b""), 0xcbf29ce484222325);
-        assert_eq!(fnv1a(FNV_OFFSET, b"a"), 0xaf63dc4c8601ec8c);
-        assert_eq!(fnv1a(FNV_OFFSET, b"foobar"), 0x85944171f73967e8);
-    }
-
-    #[test]
-    fn bin_round_trip() {
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("reference.bin");
-        let samples = SamplePoints {
-            rest: vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5]],
-            grid: 2,
-            side: 0,
-        };
-        let t = Trajectory {
-            points: 3,
-            grid: 2,
-            side: 0,
-            times: vec![0.0, 0.5],
-            positions: (0..6).map(|i| [i as f32, 0.5, -1.25 * i as f32]).collect(),
-            final_vertices: vec![[1.0, 2.0, 3.0]],
-            adapt: Default::default(),
-        };
-        let header = ReferenceHeader {
-            format: CACHE_FORMAT,
-            key: "0123456789abcdef".into(),
-            scene: "s".into(),
-            settings: ReferenceSettings::default(),
-            integrator: "rk4".into(),
-            beta: 0.01,
-            samples,
-            times: t.times.clone(),
-            final_vertices: 1,
-            steps: 10,
-            wall_s: 1.0,
-            sim_time: 0.5,
-            floor: Floor {
-                resolution: 3,
-                e_rms: 0.1,
-                e_final: 0.2,
-                tracked_err: 0.3,
-                hausdorff: 0.4,
-                wall_s: 0.5,
-                steps: 6,
-            },
-            physics: serde_json::json!({"a": 1}),
-        };
-        write_bin(&path, &header, &t).unwrap();
-        let (h, back) = read_bin(&path).unwrap();
-        assert_eq!(h, header);
-        assert_eq!(back, t);
-        // A truncated file is reported, not misread.
-        let bytes = std::fs::read(&path).unwrap();
-        std::fs::write(&path, &bytes[..bytes.len() - 4]).unwrap();
-        assert!(matches!(
-            read_bin(&path),
-            Err(ReferenceError::Malformed { .. })
-        ));
-    }
-}
+#[path = "reference_tests.rs"]
+mod tests;

@@ -48,6 +48,9 @@ pub struct MetricsRow {
     pub total_energy: Real,
     /// Conjugate-gradient iterations of the last step (`implicit_euler`; 0 otherwise).
     pub cg_iterations: usize,
+    /// Steps since the start of the run whose linear solve ended above its tolerance
+    /// (cumulative, so the last row holds the run's total; `implicit_euler`; 0 otherwise).
+    pub cg_unconverged: u64,
     /// World positions of the tracked points (m).
     pub tracked: Vec<Vec3>,
 }
@@ -83,7 +86,7 @@ impl MetricsWriter {
             out,
             "step,t,dt,vertices,edges,faces,min_mass,max_stiffness,total_mass,linear_momentum,\
              kinetic_energy,max_penetration,contacts,adapt_events,adapt_energy_change,gravity_energy,\
-             stretch_energy,bending_energy,total_energy,cg_iterations"
+             stretch_energy,bending_energy,total_energy,cg_iterations,cg_unconverged"
         )?;
         let mut used = Vec::new();
         for (k, name) in tracked.iter().enumerate() {
@@ -100,7 +103,7 @@ impl MetricsWriter {
         write!(
             self.out,
             "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{},{},{:.6e},{:.9e},{:.9e},\
-             {:.9e},{:.9e},{}",
+             {:.9e},{:.9e},{},{}",
             r.step,
             r.t,
             r.dt,
@@ -120,7 +123,8 @@ impl MetricsWriter {
             r.stretch_energy,
             r.bending_energy,
             r.total_energy,
-            r.cg_iterations
+            r.cg_iterations,
+            r.cg_unconverged
         )?;
         for p in &r.tracked {
             write!(self.out, ",{:.9e},{:.9e},{:.9e}", p.x, p.y, p.z)?;
@@ -159,7 +163,7 @@ mod tests {
         let header = text.lines().next().unwrap();
         assert!(
             header.ends_with(
-                ",cg_iterations,P_x,P_y,P_z,free_corner_x,free_corner_y,free_corner_z,\
+                ",cg_iterations,cg_unconverged,P_x,P_y,P_z,free_corner_x,free_corner_y,free_corner_z,\
                  p2_x,p2_y,p2_z,p3_x,p3_y,p3_z,a_b_x,a_b_y,a_b_z"
             ),
             "{header}"

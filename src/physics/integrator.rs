@@ -65,8 +65,13 @@ pub trait Dynamics {
 pub struct StepStats {
     /// Conjugate-gradient iterations of the step (`implicit_euler`; 0 for the others).
     pub cg_iterations: usize,
-    /// True when the linear solve stopped at its iteration cap before reaching its tolerance.
-    pub cg_capped: bool,
+    /// True when the step's linear solve ended above its tolerance: conjugate gradients stopped
+    /// at their iteration cap (or broke down) first. The step was taken with the last iterate.
+    /// False for a solve cut short by an interrupt (the run stops after that step anyway).
+    pub unconverged: bool,
+    /// True when the direct solver (`integrator.solver = "cholesky"`) failed on the step (the
+    /// matrix was not numerically positive definite) and conjugate gradients solved it instead.
+    pub solver_fallback: bool,
 }
 
 /// A time integrator over `(x, v)`.
@@ -148,9 +153,7 @@ const REGISTRY: [Entry; 8] = [
         }))
     }),
     ("rk4", |_| Box::new(Rk4::default())),
-    ("implicit_euler", |s| {
-        Box::new(ImplicitEuler::new(s.cg_tolerance, s.cg_max_iterations))
-    }),
+    ("implicit_euler", |s| Box::new(ImplicitEuler::new(s))),
 ];
 
 /// Names of every available integrator, in registry order.

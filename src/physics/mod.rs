@@ -27,4 +27,4 @@ pub use integrator::{
     Step, StepStats, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
 };
 pub use limits::{StabilityLimit, ITERATIONS_AFTER_EDIT, STEPS_PER_ITERATION};
-pub use params::{Forces, IntegratorParams, Material, SpringMode, StiffnessModel};
+pub use params::{Forces, IntegratorParams, LinearSolver, Material, SpringMode, StiffnessModel};

@@ -102,6 +102,17 @@ impl Default for Forces {
     }
 }
 
+/// How `implicit_euler` solves its linear system.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum LinearSolver {
+    /// Block-Jacobi preconditioned conjugate gradients, matrix-free. The default.
+    #[default]
+    Cg,
+    /// Sparse Cholesky of the assembled matrix, its symbolic analysis kept while the topology is
+    /// unchanged; conjugate gradients for a step whose factorisation fails.
+    Cholesky,
+}
+
 /// Options of the integrators that have any; each integrator reads only its own.
 #[derive(Clone, Debug, PartialEq)]
 pub struct IntegratorParams {
@@ -110,6 +121,8 @@ pub struct IntegratorParams {
     pub cg_tolerance: Real,
     /// `implicit_euler`: iteration cap of conjugate gradients per step. Default 200.
     pub cg_max_iterations: usize,
+    /// `implicit_euler`: the linear solver. Default [`LinearSolver::Cg`].
+    pub solver: LinearSolver,
     /// `verlet_relaxation`: Gauss-Seidel passes over the edges after each Verlet step.
     /// Default 4.
     pub relaxation_passes: usize,
@@ -120,6 +133,7 @@ impl Default for IntegratorParams {
         IntegratorParams {
             cg_tolerance: 1e-6,
             cg_max_iterations: 200,
+            solver: LinearSolver::Cg,
             relaxation_passes: 4,
         }
     }

@@ -5,8 +5,7 @@ use super::*;
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{union_jack, Mesh, VertexId};
 use crate::physics::{Forces, Material, SpringMode, StiffnessModel};
-use rand::{Rng, SeedableRng};
-use rand_chacha::ChaCha8Rng;
+use crate::testing::{built, lifted, random_state};
 
 fn all_off() -> Forces {
     Forces {
@@ -20,35 +19,20 @@ fn all_off() -> Forces {
     }
 }
 
-fn built(mesh: &Mesh, material: &Material, forces: &Forces) -> ForceModel {
-    let mut m = ForceModel::new(material, forces);
-    m.rebuild(mesh);
-    m
-}
-
-/// Rest coordinates lifted to the plane z = 0, one entry per slot.
-fn lifted(mesh: &Mesh) -> Vec<Vec3> {
-    let mut x = vec![Vec3::zeros(); mesh.vertex_slots()];
-    for v in mesh.vertices() {
-        let r = mesh.rest(v);
-        x[v.0 as usize] = Vec3::new(r.x, r.y, 0.0);
-    }
-    x
-}
-
-/// A randomly deformed state of `mesh`: rest positions plus noise of size `amp` (m), random
-/// velocities in [-1, 1] m/s.
-fn random_state(mesh: &Mesh, seed: u64, amp: Real) -> (Vec<Vec3>, Vec<Vec3>) {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let mut x = lifted(mesh);
-    let mut v = vec![Vec3::zeros(); x.len()];
-    for (xi, vi) in x.iter_mut().zip(v.iter_mut()) {
-        for k in 0..3 {
-            xi[k] += rng.random_range(-amp..amp);
-            vi[k] = rng.random_range(-1.0..1.0);
-        }
-    }
-    (x, v)
+/// Every registered integrator by name with its default options, then `implicit_euler` with the
+/// sparse Cholesky solver (`implicit_euler/cholesky`): laws of the integrators hold whatever
+/// solves the implicit step.
+fn every_integrator() -> Vec<(String, Box<dyn Integrator>)> {
+    let cholesky = IntegratorParams {
+        solver: LinearSolver::Cholesky,
+        ..IntegratorParams::default()
+    };
+    let direct = make_integrator("implicit_euler", &cholesky).expect("registered");
+    INTEGRATORS
+        .iter()
+        .map(|n| (n.to_string(), integrator_named(n).expect("registered")))
+        .chain([("implicit_euler/cholesky".to_string(), direct)])
+        .collect()
 }
 
 fn forces_of(model: &ForceModel, x: &[Vec3], v: &[Vec3]) -> Vec<Vec3> {
@@ -313,8 +297,7 @@ fn pinned_vertices_keep_mass_and_never_move() {
     assert!(model.mass()[0] > 0.0);
     assert_eq!(model.inv_mass()[0], 0.0);
     assert_eq!(model.inv_mass()[3], 0.0);
-    for name in INTEGRATORS {
-        let mut integ = integrator_named(name).expect("registered");
+    for (name, mut integ) in every_integrator() {
         let (mut x, mut v) = random_state(&mesh, 3, 0.02);
         let (x0, x3) = (x[0], x[3]);
         for k in 0..5 {
@@ -325,8 +308,10 @@ fn pinned_vertices_keep_mass_and_never_move() {
     }
 }
 
+/// Under gravity alone (no internal force, so the implicit matrix is the mass matrix), implicit
+/// Euler with either solver takes the symplectic Euler steps.
 #[test]
-fn free_fall_is_exact_with_rk4_and_known_with_symplectic_euler() {
+fn free_fall_is_exact_with_rk4_and_known_with_symplectic_and_implicit_euler() {
     let mesh = union_jack(5, 5, 1.0, 1.0);
     let forces = Forces {
         gravity: true,
@@ -336,8 +321,16 @@ fn free_fall_is_exact_with_rk4_and_known_with_symplectic_euler() {
     let g = forces.g;
     let v0 = Vec3::new(0.2, -0.1, 0.5);
     let (dt, n) = (1e-3, 100);
-    for name in ["rk4", "symplectic_euler"] {
-        let mut integ = integrator_named(name).expect("registered");
+    let cases = [
+        "rk4",
+        "symplectic_euler",
+        "implicit_euler",
+        "implicit_euler/cholesky",
+    ];
+    for (name, mut integ) in every_integrator() {
+        if !cases.contains(&name.as_str()) {
+            continue;
+        }
         let x0: Vec<Vec3> = lifted(&mesh)
             .iter()
             .map(|p| p + Vec3::new(0.0, 0.0, 1.0))
@@ -350,7 +343,7 @@ fn free_fall_is_exact_with_rk4_and_known_with_symplectic_euler() {
         let t = n as Real * dt;
         let nf = n as Real;
         for (xi, x0i) in x.iter().zip(&x0) {
-            let want = match name {
+            let want = match name.as_str() {
                 "rk4" => x0i + v0 * t + g * (0.5 * t * t),
                 _ => x0i + v0 * t + g * (dt * dt * nf * (nf + 1.0) / 2.0),
             };
@@ -660,42 +653,4 @@ fn bending_energy_is_zero_flat_and_grows_with_the_fold() {
         assert!(e > last || (phi == 0.0 && e == 0.0), "phi {phi}: {e}");
         last = e;
     }
-}
-
-#[test]
-fn implicit_euler_converges_and_reports_its_iterations() {
-    let mut mesh = union_jack(6, 6, 1.0, 1.0);
-    mesh.set_pinned(VertexId(0), true);
-    let material = Material {
-        young: 1e9,
-        ..Material::default()
-    };
-    let model = built(&mesh, &material, &Forces::default());
-    let (mut x, mut v) = random_state(&mesh, 2, 0.01);
-    let mut integ = integrator_named("implicit_euler").expect("registered");
-    // 100 times the explicit limit.
-    let dt = 100.0 * model.stable_step(1.0);
-    for k in 0..20 {
-        let stats = integ.step(&model, k as Real * dt, dt, &mut x, &mut v);
-        assert!(stats.cg_iterations > 0 && !stats.cg_capped, "{stats:?}");
-    }
-    assert!(x.iter().chain(&v).all(|p| p.iter().all(|c| c.is_finite())));
-    assert!(v.iter().all(|vi| vi.norm() < 10.0), "bounded velocities");
-}
-
-/// An interrupt ends the CG loop of a long `implicit_euler` step within 16 iterations.
-#[test]
-fn implicit_euler_stops_its_cg_loop_when_interrupted() {
-    let mesh = union_jack(6, 6, 1.0, 1.0);
-    let model = built(&mesh, &Material::default(), &Forces::default());
-    let (mut x, mut v) = random_state(&mesh, 3, 0.01);
-    let params = crate::physics::IntegratorParams {
-        cg_tolerance: 1e-300,
-        cg_max_iterations: 10_000,
-        ..Default::default()
-    };
-    let mut integ = crate::physics::make_integrator("implicit_euler", &params).unwrap();
-    integ.set_interrupt(std::sync::Arc::new(true.into()));
-    let stats = integ.step(&model, 0.0, 100.0 * model.stable_step(1.0), &mut x, &mut v);
-    assert!(stats.cg_iterations < 16, "{stats:?}");
 }

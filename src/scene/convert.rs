@@ -4,8 +4,8 @@
 //! scene's folder.
 
 use super::spec::{
-    AdaptivitySpec, CollisionSpec, CriteriaSpec, ForcesSpec, IntegratorSpec, MaterialSpec,
-    ObstacleShape, ObstacleSpec, SpringMode, StiffnessModel,
+    AdaptivitySpec, CollisionSpec, CriteriaSpec, ForcesSpec, IntegratorSpec, LinearSolver,
+    MaterialSpec, ObstacleShape, ObstacleSpec, SpringMode, StiffnessModel,
 };
 use super::LoadedScene;
 use crate::adapt::{self, AdaptParams};
@@ -28,6 +28,15 @@ impl From<SpringMode> for physics::SpringMode {
         match s {
             SpringMode::Tension => physics::SpringMode::Tension,
             SpringMode::Both => physics::SpringMode::Both,
+        }
+    }
+}
+
+impl From<LinearSolver> for physics::LinearSolver {
+    fn from(s: LinearSolver) -> Self {
+        match s {
+            LinearSolver::Cg => physics::LinearSolver::Cg,
+            LinearSolver::Cholesky => physics::LinearSolver::Cholesky,
         }
     }
 }
@@ -69,6 +78,7 @@ impl From<&IntegratorSpec> for IntegratorParams {
         IntegratorParams {
             cg_tolerance: i.cg_tolerance,
             cg_max_iterations: i.cg_max_iterations,
+            solver: i.solver.into(),
             relaxation_passes: i.relaxation_passes,
         }
     }

@@ -267,6 +267,30 @@ impl Default for TimeSpec {
     }
 }
 
+/// How `implicit_euler` solves its linear system.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum LinearSolver {
+    /// Block-Jacobi preconditioned conjugate gradients, matrix-free.
+    #[default]
+    Cg,
+    /// Sparse Cholesky of the assembled matrix (conjugate gradients for a step whose
+    /// factorisation fails, counted in `solver_fallbacks` of summary.json).
+    Cholesky,
+}
+
+/// What a run does when a step's linear solve ends above its tolerance (`implicit_euler`).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum OnUnconverged {
+    /// Go on with the last iterate; the first such step is warned about on stderr and every one
+    /// is counted (`cg_unconverged` in metrics.csv and summary.json).
+    #[default]
+    Warn,
+    /// End the run with status `failed` at the first such step, keeping what was written.
+    Fail,
+}
+
 /// `[integrator]`: the integrator's name and options.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields, default)]
@@ -278,6 +302,11 @@ pub struct IntegratorSpec {
     pub cg_tolerance: Real,
     /// `implicit_euler`: iteration cap of conjugate gradients per step. Default 200.
     pub cg_max_iterations: usize,
+    /// `implicit_euler`: the linear solver, `cg` or `cholesky`. Default `cg`.
+    pub solver: LinearSolver,
+    /// `implicit_euler`: what a step whose solve ends above `cg_tolerance` does to the run:
+    /// `warn` or `fail`. Default `warn`.
+    pub on_unconverged: OnUnconverged,
     /// `verlet_relaxation`: Gauss-Seidel passes over the edges after each Verlet step (seed 002's
     /// bar relaxation). Default 4.
     pub relaxation_passes: usize,
@@ -289,6 +318,8 @@ impl Default for IntegratorSpec {
             name: "rk4".into(),
             cg_tolerance: 1e-6,
             cg_max_iterations: 200,
+            solver: LinearSolver::Cg,
+            on_unconverged: OnUnconverged::Warn,
             relaxation_passes: 4,
         }
     }

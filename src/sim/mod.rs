@@ -21,7 +21,7 @@ use crate::physics::{
     make_integrator, Integrator, StabilityLimit, StepStats, ITERATIONS_AFTER_EDIT,
     STEPS_PER_ITERATION,
 };
-use crate::scene::{LoadedScene, Scene, TimeMode, MAX_STEPS};
+use crate::scene::{LoadedScene, OnUnconverged, Scene, TimeMode, MAX_STEPS};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
@@ -72,6 +72,16 @@ pub enum StepError {
         /// What was seen.
         reason: String,
     },
+    /// A linear solve ended above its tolerance with `integrator.on_unconverged = "fail"`.
+    #[error("the implicit solve did not converge at step {step}, t = {t:.6} s: {reason}")]
+    Unconverged {
+        /// Step number.
+        step: u64,
+        /// Simulated time (s).
+        t: Real,
+        /// What the solver reported.
+        reason: String,
+    },
     /// Adaptation failed.
     #[error("adaptation failed at step {step}, t = {t:.6} s: {reason}")]
     Adapt {
@@ -82,6 +92,18 @@ pub enum StepError {
         /// The error.
         reason: String,
     },
+}
+
+/// Steps whose linear solve did not go as asked, counted over a run (`implicit_euler`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SolveCounts {
+    /// Steps whose solve ended above its tolerance ([`StepStats::unconverged`]).
+    pub unconverged: u64,
+    /// Step number and simulated time (s) at the end of the first of them.
+    pub first_unconverged: Option<(u64, Real)>,
+    /// Steps whose direct solve failed and fell back to conjugate gradients
+    /// ([`StepStats::solver_fallback`]).
+    pub fallbacks: u64,
 }
 
 /// A material point tracked through the run.
@@ -125,6 +147,8 @@ pub struct Simulation {
     pub stage_times: StageTimes,
     /// Set when the run is interrupted: the adaptation pass stops at its next edit or round.
     interrupt: Option<Arc<AtomicBool>>,
+    /// Linear solves that ended above their tolerance so far.
+    pub solves: SolveCounts,
 }
 
 impl Simulation {
@@ -172,6 +196,7 @@ impl Simulation {
             drivers,
             stage_times: StageTimes::default(),
             interrupt: None,
+            solves: SolveCounts::default(),
         })
     }
 
@@ -341,6 +366,7 @@ impl Simulation {
         self.t += dt;
         self.steps += 1;
         self.check_finite()?;
+        self.count_solve(&integrator)?;
 
         let clock = Instant::now();
         let adapt = if self.adapt_due() {
@@ -445,6 +471,42 @@ impl Simulation {
                 p.location = loc;
             }
         }
+    }
+
+    /// Counts the step just taken in [`Simulation::solves`] when its direct solve fell back to
+    /// CG or its solve ended above tolerance, and then fails under
+    /// `integrator.on_unconverged = "fail"`.
+    fn count_solve(&mut self, stats: &StepStats) -> Result<(), StepError> {
+        self.solves.fallbacks += u64::from(stats.solver_fallback);
+        if !stats.unconverged {
+            return Ok(());
+        }
+        self.solves.unconverged += 1;
+        self.solves
+            .first_unconverged
+            .get_or_insert((self.steps, self.t));
+        let i = &self.scene.integrator;
+        if i.on_unconverged == OnUnconverged::Fail {
+            return Err(StepError::Unconverged {
+                step: self.steps,
+                t: self.t,
+                reason: format!(
+                    "{}; integrator.on_unconverged = \"fail\" ends the run",
+                    self.unconverged_reason(stats)
+                ),
+            });
+        }
+        Ok(())
+    }
+
+    /// What an unconverged solve did, for messages: its iterations against the scene's limits.
+    fn unconverged_reason(&self, stats: &StepStats) -> String {
+        let i = &self.scene.integrator;
+        format!(
+            "conjugate gradients stopped after {} iterations above the relative tolerance \
+             integrator.cg_tolerance = {:e} (integrator.cg_max_iterations = {})",
+            stats.cg_iterations, i.cg_tolerance, i.cg_max_iterations
+        )
     }
 
     /// Fails when a live vertex has a non-finite position or velocity, or moves faster than the

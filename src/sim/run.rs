@@ -86,6 +86,10 @@ pub struct RunSummary {
     pub frames: usize,
     /// Largest depth inside an obstacle over the recorded rows (m).
     pub max_penetration: Real,
+    /// Steps whose linear solve ended above its tolerance (`implicit_euler`; 0 otherwise).
+    pub cg_unconverged: u64,
+    /// Steps whose direct solve failed and were solved by CG (`integrator.solver = "cholesky"`).
+    pub solver_fallbacks: u64,
     /// How the run ended.
     pub status: RunStatus,
     /// Why it stopped, when not completed.
@@ -198,12 +202,15 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
                 if let Some(s) = sampler.as_mut() {
                     s.observe_adaptation(&report.adapt);
                 }
+                if report.integrator.unconverged && sim.solves.unconverged == 1 {
+                    bar.suspend(|| warn_unconverged(sim, &report.integrator, &opts.out_dir));
+                }
                 last = report
             }
             Err(e) => {
                 status = match e {
                     StepError::Diverged { .. } => RunStatus::Diverged,
-                    StepError::Adapt { .. } => RunStatus::Failed,
+                    StepError::Adapt { .. } | StepError::Unconverged { .. } => RunStatus::Failed,
                 };
                 message = e.to_string();
                 let row = metrics_row(sim, &last);
@@ -244,6 +251,8 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         final_vertices: sim.cloth.mesh.vertex_count(),
         frames,
         max_penetration,
+        cg_unconverged: sim.solves.unconverged,
+        solver_fallbacks: sim.solves.fallbacks,
         status,
         message,
         stage_times: sim.stage_times,
@@ -252,6 +261,21 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
     let json = serde_json::to_string_pretty(&summary).map_err(std::io::Error::other)?;
     write_atomic(&opts.out_dir.join("summary.json"), json.as_bytes())?;
     Ok(summary)
+}
+
+/// The warning, on stderr, about the first step of a run whose solve ended above tolerance
+/// (`stats`: its report); the run's folder `out_dir` names the run.
+fn warn_unconverged(sim: &Simulation, stats: &crate::physics::StepStats, out_dir: &Path) {
+    eprintln!(
+        "warning: {}: the implicit solve did not converge at step {}, t = {:.6} s: {}. The run \
+         goes on with the last iterate; every such step is counted in cg_unconverged \
+         (metrics.csv, summary.json) and not reported again; integrator.on_unconverged = \
+         \"fail\" ends the run instead",
+        out_dir.display(),
+        sim.steps,
+        sim.t,
+        sim.unconverged_reason(stats)
+    );
 }
 
 /// The status and message of a run whose write of `path` failed (a full disk, no permission).
@@ -324,6 +348,7 @@ fn metrics_row(sim: &Simulation, last: &super::StepReport) -> MetricsRow {
         bending_energy: energy.bending,
         total_energy: energy.total(),
         cg_iterations: last.integrator.cg_iterations,
+        cg_unconverged: sim.solves.unconverged,
         tracked: sim.tracked_positions().collect(),
     }
 }

@@ -144,6 +144,10 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", "--set", "integrator.cg_max_iterations=1000000000000"],
             "expected 1 to 10000 iterations per step",
         ),
+        (
+            vec!["run", "--set", "integrator.on_unconverged=\"loud\""],
+            "in `integrator.on_unconverged`",
+        ),
         // Sizes that aborted allocating or wrapped (issue 15): refused with the memory they need.
         (
             vec!["run", "--set", "cloth.resolution=100000"],
@@ -406,6 +410,109 @@ fn an_error_in_a_command_line_value_names_the_option_not_a_scene_line() {
     let (code, err) = adaptcloth(&["run", bad.to_str().unwrap()]);
     assert_eq!(code, 2);
     assert!(err.contains("bad.toml:2: material.rho"), "{err}");
+    std::fs::write(
+        &bad,
+        "[integrator]\nname = \"implicit_euler\"\non_unconverged = \"loud\"\n",
+    )
+    .unwrap();
+    let (code, err) = adaptcloth(&["run", bad.to_str().unwrap()]);
+    assert_eq!(code, 2);
+    assert!(
+        err.contains("bad.toml: TOML parse error at line 3")
+            && err.contains("expected `warn` or `fail`"),
+        "{err}"
+    );
+}
+
+/// `implicit_euler` on the hanging cloth at a fixed 4 ms, for 10 steps, into `out`, with more
+/// `--set` options.
+fn implicit_run(out: &std::path::Path, set: &[&str]) -> (i32, String) {
+    let mut args = vec![
+        "run",
+        "hanging",
+        "--integrator",
+        "implicit_euler",
+        "--set",
+        "time.mode=\"fixed\"",
+        "--set",
+        "time.dt=0.004",
+        "--duration",
+        "0.04",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    for s in set {
+        args.extend(["--set", s]);
+    }
+    adaptcloth(&args)
+}
+
+/// The `cg_unconverged` column of `metrics.csv` in `out`, one value per row.
+fn unconverged_column(out: &std::path::Path) -> Vec<u64> {
+    let text = std::fs::read_to_string(out.join("metrics.csv")).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header.iter().position(|c| *c == "cg_unconverged").unwrap();
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+        .collect()
+}
+
+/// Issue 13: a solve that stops at its cap above tolerance is counted (cumulative in
+/// metrics.csv, total in summary.json) and warned about once; `on_unconverged = "fail"` ends
+/// the run as failed with what was written so far; converged solves count nothing.
+#[test]
+fn unconverged_solves_are_counted_warned_about_once_or_fail_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let summary = |out: &std::path::Path| -> serde_json::Value {
+        serde_json::from_str(&summary_of(out)).unwrap()
+    };
+    let fine = dir.path().join("fine");
+    let (code, err) = implicit_run(&fine, &[]);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("warning"), "{err}");
+    assert_eq!(summary(&fine)["cg_unconverged"], 0);
+    assert!(unconverged_column(&fine).iter().all(|&c| c == 0));
+
+    let capped = dir.path().join("capped");
+    let (code, err) = implicit_run(&capped, &["integrator.cg_max_iterations=1"]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(err.matches("warning").count(), 1, "{err}");
+    assert!(
+        err.contains("did not converge at step 1, t = 0.004000 s")
+            && err.contains("integrator.cg_max_iterations = 1"),
+        "{err}"
+    );
+    let column = unconverged_column(&capped);
+    assert!(column.windows(2).all(|w| w[0] <= w[1]), "{column:?}");
+    let s = summary(&capped);
+    assert_eq!(s["status"], "completed");
+    assert_eq!(s["cg_unconverged"], s["steps"], "every step capped");
+    assert_eq!(Some(column[column.len() - 1]), s["cg_unconverged"].as_u64());
+
+    let failed = dir.path().join("failed");
+    let (code, err) = implicit_run(
+        &failed,
+        &[
+            "integrator.cg_max_iterations=1",
+            "integrator.on_unconverged=\"fail\"",
+        ],
+    );
+    assert_eq!(code, 1, "{err}");
+    let s = summary(&failed);
+    assert_eq!(s["status"], "failed");
+    assert_eq!(s["steps"], 1);
+    assert_eq!(s["cg_unconverged"], 1);
+    let message = s["message"].as_str().unwrap();
+    assert!(
+        message.contains("did not converge at step 1")
+            && message.contains("on_unconverged = \"fail\""),
+        "{message}"
+    );
+    assert!(err.contains(message), "{err}");
+    assert_eq!(unconverged_column(&failed).last(), Some(&1));
+    assert!(failed.join("frames/frame_00000.obj").is_file());
 }
 
 fn summary_of(out: &std::path::Path) -> String {

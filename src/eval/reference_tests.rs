@@ -1,0 +1,163 @@
+//! Tests of the reference cache: keys, the compact format, the floor.
+use super::*;
+use crate::scene::load_embedded;
+
+fn sphere(overrides: &[&str]) -> LoadedScene {
+    let o: Vec<String> = overrides.iter().map(|s| s.to_string()).collect();
+    load_embedded("sphere", &o).unwrap().unwrap()
+}
+
+/// Integrator keys that came after cached references existed (issue 13) stay out of the key
+/// at their defaults, so the `[integrator]` part is the one those references were keyed
+/// with; a non-default value changes the key.
+#[test]
+fn later_integrator_keys_enter_the_cache_key_only_when_set() {
+    let json = physics_json(&sphere(&[]).scene);
+    let mut keys: Vec<&str> = json["integrator"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(String::as_str)
+        .collect();
+    keys.sort_unstable();
+    assert_eq!(
+        keys,
+        [
+            "cg_max_iterations",
+            "cg_tolerance",
+            "name",
+            "relaxation_passes"
+        ]
+    );
+    let settings = ReferenceSettings::default();
+    let base = cache_key(&sphere(&[]), &settings);
+    for o in [
+        "integrator.on_unconverged=\"fail\"",
+        "integrator.solver=\"cholesky\"",
+    ] {
+        assert_ne!(base, cache_key(&sphere(&[o]), &settings), "{o}");
+    }
+}
+
+#[test]
+fn cache_key_changes_with_physics_only() {
+    let settings = ReferenceSettings::default();
+    let base = cache_key(&sphere(&[]), &settings);
+    assert_eq!(base.len(), 16);
+    assert_eq!(base, cache_key(&sphere(&[]), &settings), "deterministic");
+    // Physics parameters change it.
+    for o in [
+        "material.E=2e7",
+        "material.rho=6001",
+        "obstacles.0.radius=0.3",
+        "time.duration=0.5",
+        "forces.drag=false",
+        "collision.margin=0.003",
+    ] {
+        assert_ne!(base, cache_key(&sphere(&[o]), &settings), "{o}");
+    }
+    // Reference settings change it.
+    for s in [
+        ReferenceSettings {
+            resolution: 33,
+            ..settings.clone()
+        },
+        ReferenceSettings {
+            beta: Some(0.02),
+            ..settings.clone()
+        },
+        ReferenceSettings {
+            samples: 32,
+            ..settings.clone()
+        },
+        ReferenceSettings {
+            dt_initial: None,
+            ..settings.clone()
+        },
+        ReferenceSettings {
+            integrator: Some("symplectic_euler".into()),
+            ..settings.clone()
+        },
+    ] {
+        assert_ne!(base, cache_key(&sphere(&[]), &s), "{s:?}");
+    }
+    // Output and adaptivity settings, the run's own grid, step and strategy do not (the
+    // reference replaces them), nor does the output folder (not an input of the key).
+    for o in [
+        "name=\"other\"",
+        "time.metrics_rate=50",
+        "adaptivity.l_min=0.05",
+        "adaptivity.strategy=\"remesh\"",
+        "cloth.resolution=9",
+        "time.beta=0.002",
+        "time.dt_initial=0.0002",
+    ] {
+        assert_eq!(base, cache_key(&sphere(&[o]), &settings), "{o}");
+    }
+    let mut moved = sphere(&[]);
+    moved.source = "/elsewhere/out".into();
+    assert_eq!(base, cache_key(&moved, &settings));
+}
+
+#[test]
+fn fnv1a_known_values() {
+    // Test vectors of the FNV-1a 64-bit hash.
+    assert_eq!(fnv1a(FNV_OFFSET, b""), 0xcbf29ce484222325);
+    assert_eq!(fnv1a(FNV_OFFSET, b"a"), 0xaf63dc4c8601ec8c);
+    assert_eq!(fnv1a(FNV_OFFSET, b"foobar"), 0x85944171f73967e8);
+}
+
+#[test]
+fn bin_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("reference.bin");
+    let samples = SamplePoints {
+        rest: vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5]],
+        grid: 2,
+        side: 0,
+    };
+    let t = Trajectory {
+        points: 3,
+        grid: 2,
+        side: 0,
+        times: vec![0.0, 0.5],
+        positions: (0..6).map(|i| [i as f32, 0.5, -1.25 * i as f32]).collect(),
+        final_vertices: vec![[1.0, 2.0, 3.0]],
+        adapt: Default::default(),
+    };
+    let header = ReferenceHeader {
+        format: CACHE_FORMAT,
+        key: "0123456789abcdef".into(),
+        scene: "s".into(),
+        settings: ReferenceSettings::default(),
+        integrator: "rk4".into(),
+        beta: 0.01,
+        samples,
+        times: t.times.clone(),
+        final_vertices: 1,
+        steps: 10,
+        wall_s: 1.0,
+        sim_time: 0.5,
+        floor: Floor {
+            resolution: 3,
+            e_rms: 0.1,
+            e_final: 0.2,
+            tracked_err: 0.3,
+            hausdorff: 0.4,
+            wall_s: 0.5,
+            steps: 6,
+        },
+        physics: serde_json::json!({"a": 1}),
+    };
+    write_bin(&path, &header, &t).unwrap();
+    let (h, back) = read_bin(&path).unwrap();
+    assert_eq!(h, header);
+    assert_eq!(back, t);
+    // A truncated file is reported, not misread.
+    let bytes = std::fs::read(&path).unwrap();
+    std::fs::write(&path, &bytes[..bytes.len() - 4]).unwrap();
+    assert!(matches!(
+        read_bin(&path),
+        Err(ReferenceError::Malformed { .. })
+    ));
+}

@@ -1,0 +1,170 @@
+//! The filtered system `A_f` (see [`super::system`]) as a sparse symmetric matrix: its lower
+//! triangle in compressed sparse columns, three scalar rows and columns per vertex slot (slot `i`
+//! owns rows `3i..3i+3`), for the direct solver.
+//!
+//! The sparsity pattern depends only on the topology: a 3x3 block on the diagonal of every slot,
+//! and one off-diagonal block per pair of slots joined by a spring or sharing a bending element.
+//! [`Pattern::new`] builds it once per topology together with, for every element, where its
+//! blocks go; [`Pattern::fill`] writes a step's values into it. Entries stay in the pattern when
+//! they are zero (a spring in compression, a fixed slot's coupling), so the pattern, and with it
+//! the solver's symbolic analysis, survives every step until the mesh changes.
+
+use super::system::System;
+use crate::math::{Mat3, Real};
+use crate::physics::ForceModel;
+
+/// Pairs `(k, l)` of an element's four vertices, each coupling block of a bending element.
+const BEND_PAIRS: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
+
+/// The lower-triangular pattern of `A_f` for one topology, in scalar and in block form.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Pattern {
+    /// The topology it was built for: slot count, spring ends, bending elements.
+    slots: usize,
+    spring_a: Vec<u32>,
+    spring_b: Vec<u32>,
+    bends: Vec<[u32; 4]>,
+    /// Off-diagonal blocks by block column: those of slot `c` are `block_ptr[c]..block_ptr[c+1]`,
+    /// with block rows `block_row` (slots above `c`, ascending).
+    block_ptr: Vec<usize>,
+    block_row: Vec<usize>,
+    /// Per spring, the index of its off-diagonal block.
+    spring_block: Vec<usize>,
+    /// Per bending element, the index of the block of each pair in [`BEND_PAIRS`].
+    bend_block: Vec<[usize; 6]>,
+    /// Scalar column starts (`3 slots + 1` of them) and row indices, sorted within each column.
+    pub(super) col_ptr: Vec<usize>,
+    pub(super) row_idx: Vec<usize>,
+}
+
+impl Pattern {
+    /// The pattern of `model`'s topology. The vertices of each element are distinct slots (a
+    /// conforming mesh).
+    pub(super) fn new(model: &ForceModel) -> Pattern {
+        let slots = model.mass().len();
+        let (sp, bends) = (model.springs(), &model.bends().v);
+        // Every coupled pair once, as (column, row) with row > column, sorted.
+        let ordered = |p: u32, q: u32| (p.min(q) as usize, p.max(q) as usize);
+        let mut pairs: Vec<(usize, usize)> = (0..sp.len())
+            .map(|j| ordered(sp.a[j], sp.b[j]))
+            .chain(
+                bends
+                    .iter()
+                    .flat_map(|v| BEND_PAIRS.map(|(k, l)| ordered(v[k], v[l]))),
+            )
+            .collect();
+        pairs.sort_unstable();
+        pairs.dedup();
+        let mut block_ptr = vec![0; slots + 1];
+        for &(c, _) in &pairs {
+            block_ptr[c + 1] += 1;
+        }
+        for c in 0..slots {
+            block_ptr[c + 1] += block_ptr[c];
+        }
+        let block_row: Vec<usize> = pairs.iter().map(|&(_, r)| r).collect();
+        let find = |p: u32, q: u32| {
+            let (c, r) = ordered(p, q);
+            let rows = &block_row[block_ptr[c]..block_ptr[c + 1]];
+            block_ptr[c]
+                + rows
+                    .binary_search(&r)
+                    .expect("every element's pair is in the pattern")
+        };
+        let spring_block = (0..sp.len()).map(|j| find(sp.a[j], sp.b[j])).collect();
+        let bend_block = bends
+            .iter()
+            .map(|v| BEND_PAIRS.map(|(k, l)| find(v[k], v[l])))
+            .collect();
+        // Scalar column 3c + k: the diagonal block's rows 3c + k..3c + 3, then three rows per
+        // off-diagonal block of column c.
+        let mut col_ptr = Vec::with_capacity(3 * slots + 1);
+        let mut row_idx = Vec::with_capacity(6 * slots + 9 * block_row.len());
+        col_ptr.push(0);
+        for c in 0..slots {
+            for k in 0..3 {
+                row_idx.extend(3 * c + k..3 * c + 3);
+                for &r in &block_row[block_ptr[c]..block_ptr[c + 1]] {
+                    row_idx.extend(3 * r..3 * r + 3);
+                }
+                col_ptr.push(row_idx.len());
+            }
+        }
+        Pattern {
+            slots,
+            spring_a: sp.a.clone(),
+            spring_b: sp.b.clone(),
+            bends: bends.clone(),
+            block_ptr,
+            block_row,
+            spring_block,
+            bend_block,
+            col_ptr,
+            row_idx,
+        }
+    }
+
+    /// True when `model` has the topology this pattern was built for (same slots, springs and
+    /// bending elements, in the same order).
+    pub(super) fn fits(&self, model: &ForceModel) -> bool {
+        let sp = model.springs();
+        self.slots == model.mass().len()
+            && self.spring_a == sp.a
+            && self.spring_b == sp.b
+            && self.bends == model.bends().v
+    }
+
+    /// Number of scalar rows (and columns): three per slot.
+    pub(super) fn dim(&self) -> usize {
+        3 * self.slots
+    }
+
+    /// Writes the lower triangle of `system`'s `A_f` (kg) into `values` (one per entry of
+    /// [`Pattern::row_idx`]), using `blocks` as scratch for the off-diagonal blocks. `model` must
+    /// fit the pattern ([`Pattern::fits`]) and be the one `system` was built from.
+    pub(super) fn fill(
+        &self,
+        system: &System,
+        model: &ForceModel,
+        blocks: &mut Vec<Mat3>,
+        values: &mut Vec<Real>,
+    ) {
+        blocks.clear();
+        blocks.resize(self.block_row.len(), Mat3::zeros());
+        for (&p, bj) in self.spring_block.iter().zip(&system.spring_blocks) {
+            blocks[p] -= bj;
+        }
+        let bend_terms = model.bends().v.iter().zip(&self.bend_block);
+        for ((ids, at), (u, &w)) in bend_terms.zip(system.bend_u.iter().zip(&system.bend_w)) {
+            for (&p, &(k, l)) in at.iter().zip(&BEND_PAIRS) {
+                // The block at (row r, column c), r > c, is w u_r u_cᵀ.
+                let (r, c) = if ids[k] > ids[l] { (k, l) } else { (l, k) };
+                blocks[p] += u[r] * u[c].transpose() * w;
+            }
+        }
+        let fixed = |i: usize| model.inv_mass()[i] == 0.0;
+        values.clear();
+        values.resize(self.row_idx.len(), 0.0);
+        for c in 0..self.slots {
+            let range = self.block_ptr[c]..self.block_ptr[c + 1];
+            for k in 0..3 {
+                let start = self.col_ptr[3 * c + k];
+                let diag = &system.diag_blocks[c];
+                for i in k..3 {
+                    values[start + i - k] = diag[(i, k)];
+                }
+                if fixed(c) {
+                    continue; // the column of a fixed slot is the identity's
+                }
+                for (q, p) in range.clone().enumerate() {
+                    if fixed(self.block_row[p]) {
+                        continue;
+                    }
+                    for i in 0..3 {
+                        values[start + 3 - k + 3 * q + i] = blocks[p][(i, k)];
+                    }
+                }
+            }
+        }
+    }
+}
