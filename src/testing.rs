@@ -51,6 +51,20 @@ pub fn obstacles(list: &[Obstacle]) -> Obstacles {
     Obstacles::build(list, &ContactParams::default()).expect("valid test obstacles")
 }
 
+/// Every force switched off; a test switches on what it checks (`Forces { bending: true,
+/// ..no_forces() }`).
+pub fn no_forces() -> Forces {
+    Forces {
+        springs: false,
+        spring_damping: false,
+        bending: false,
+        bending_damping: false,
+        gravity: false,
+        drag: false,
+        ..Forces::default()
+    }
+}
+
 /// The force model of `material` and `forces` built over `mesh`.
 pub fn built(mesh: &Mesh, material: &Material, forces: &Forces) -> ForceModel {
     let mut m = ForceModel::new(material, forces);

@@ -206,6 +206,7 @@ mod tests {
     use crate::mesh::union_jack;
     use crate::physics::{integrator_named, Dynamics, ForceModel};
     use crate::physics::{Forces, Material, SpringMode};
+    use crate::testing::{built, lifted, no_forces};
 
     /// The flat `n x n` grid at rest (one slot per vertex) under `forces` and `springs`.
     fn grid(n: usize, forces: Forces, springs: SpringMode) -> (ForceModel, Vec<Vec3>) {
@@ -214,27 +215,14 @@ mod tests {
             springs,
             ..Material::default()
         };
-        let mut m = ForceModel::new(&material, &forces);
-        m.rebuild(&mesh);
-        let x = mesh
-            .vertices()
-            .map(|v| {
-                let r = mesh.rest(v);
-                Vec3::new(r.x, r.y, 0.0)
-            })
-            .collect();
-        (m, x)
+        (built(&mesh, &material, &forces), lifted(&mesh))
     }
 
     /// Spring damping only, so the step limit is the damping one.
     fn damping_only(n: usize) -> (ForceModel, Vec<Vec3>) {
         let forces = Forces {
-            springs: false,
-            bending: false,
-            bending_damping: false,
-            gravity: false,
-            drag: false,
-            ..Forces::default()
+            spring_damping: true,
+            ..no_forces()
         };
         grid(n, forces, SpringMode::Tension)
     }
@@ -242,12 +230,8 @@ mod tests {
     /// Springs resisting both ways, no damping: the step limit is the oscillation one.
     fn springs_only(n: usize) -> (ForceModel, Vec<Vec3>) {
         let forces = Forces {
-            spring_damping: false,
-            bending: false,
-            bending_damping: false,
-            gravity: false,
-            drag: false,
-            ..Forces::default()
+            springs: true,
+            ..no_forces()
         };
         grid(n, forces, SpringMode::Both)
     }
@@ -346,12 +330,8 @@ mod tests {
         // Bending only: a square of two triangles, one opposite vertex pushed towards the
         // midpoint of the shared edge.
         let forces = Forces {
-            springs: false,
-            spring_damping: false,
-            bending_damping: false,
-            gravity: false,
-            drag: false,
-            ..Forces::default()
+            bending: true,
+            ..no_forces()
         };
         let (model, mut x) = grid(2, forces, SpringMode::Tension);
         let [x1, _, x3, x4] = model.bends().v[0].map(|i| i as usize);
@@ -388,11 +368,9 @@ mod tests {
     #[test]
     fn no_limit_without_damping_or_stiffness() {
         let forces = Forces {
-            springs: false,
-            spring_damping: false,
-            bending: false,
-            bending_damping: false,
-            ..Forces::default()
+            gravity: true,
+            drag: true,
+            ..no_forces()
         };
         let (model, x) = grid(3, forces, SpringMode::Tension);
         let mut limit = StabilityLimit::default();

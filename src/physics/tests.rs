@@ -5,19 +5,7 @@ use super::*;
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{union_jack, Mesh, VertexId};
 use crate::physics::{Forces, Material, SpringMode, StiffnessModel};
-use crate::testing::{built, lifted, random_state};
-
-fn all_off() -> Forces {
-    Forces {
-        springs: false,
-        spring_damping: false,
-        bending: false,
-        bending_damping: false,
-        gravity: false,
-        drag: false,
-        ..Forces::default()
-    }
-}
+use crate::testing::{built, lifted, no_forces, random_state};
 
 /// Every registered integrator by name with its default options, then `implicit_euler` with the
 /// sparse Cholesky solver (`implicit_euler/cholesky`): laws of the integrators hold whatever
@@ -80,7 +68,7 @@ fn bending_alone_conserves_momentum() {
     let forces = Forces {
         bending: true,
         bending_damping: true,
-        ..all_off()
+        ..no_forces()
     };
     let model = built(&mesh, &Material::default(), &forces);
     let (x, v) = random_state(&mesh, 11, 0.08);
@@ -164,7 +152,7 @@ fn bends_take_their_orientation_from_the_faces() {
 fn bending_pushes_a_fold_back_towards_flat() {
     let forces = Forces {
         bending: true,
-        ..all_off()
+        ..no_forces()
     };
     for phi in [0.4, -0.4, 0.05, -1.5, 2.5] {
         let (mesh, x) = diamond(phi);
@@ -188,7 +176,7 @@ fn bending_force_matches_bridson_formula() {
     let material = Material::default();
     let forces = Forces {
         bending: true,
-        ..all_off()
+        ..no_forces()
     };
     let model = built(&mesh, &material, &forces);
     let f = forces_of(&model, &x, &[Vec3::zeros(); 4]);
@@ -206,7 +194,7 @@ fn bending_force_matches_bridson_formula() {
 fn bending_damping_opposes_folding_velocity() {
     let forces = Forces {
         bending_damping: true,
-        ..all_off()
+        ..no_forces()
     };
     for phi in [0.0, 0.3, -0.8] {
         let (mesh, x) = diamond(phi);
@@ -315,7 +303,7 @@ fn free_fall_is_exact_with_rk4_and_known_with_symplectic_and_implicit_euler() {
     let mesh = union_jack(5, 5, 1.0, 1.0);
     let forces = Forces {
         gravity: true,
-        ..all_off()
+        ..no_forces()
     };
     let model = built(&mesh, &Material::default(), &forces);
     let g = forces.g;
@@ -369,7 +357,7 @@ fn single_spring(k: Real, kd: Real, m: Real, springs: SpringMode) -> ForceModel 
     let forces = Forces {
         springs: true,
         spring_damping: kd > 0.0,
-        ..all_off()
+        ..no_forces()
     };
     let springs = Springs {
         a: vec![0],
@@ -515,7 +503,7 @@ fn a_force_switched_off_equals_all_minus_that_force() {
     for (name, switch) in switches {
         let mut without = Forces::default();
         *switch(&mut without) = false;
-        let mut only = all_off();
+        let mut only = no_forces();
         *switch(&mut only) = true;
         let f_without = forces_of(&built(&mesh, &material, &without), &x, &v);
         let f_only = forces_of(&built(&mesh, &material, &only), &x, &v);
@@ -528,7 +516,7 @@ fn a_force_switched_off_equals_all_minus_that_force() {
     for i in 0..x.len() {
         assert!((all[i] - sum_of_each[i]).norm() <= tol);
     }
-    let none = forces_of(&built(&mesh, &material, &all_off()), &x, &v);
+    let none = forces_of(&built(&mesh, &material, &no_forces()), &x, &v);
     assert!(none.iter().all(|fi| *fi == Vec3::zeros()));
 }
 
@@ -574,7 +562,7 @@ fn conservative_sheet() -> (ForceModel, Vec<Vec3>, Vec<Vec3>) {
     let forces = Forces {
         springs: true,
         gravity: true,
-        ..all_off()
+        ..no_forces()
     };
     let model = built(&mesh, &material, &forces);
     let (x, v) = random_state(&mesh, 11, 0.03);
@@ -616,7 +604,7 @@ fn spring_force_is_minus_the_gradient_of_the_stretch_energy() {
         };
         let forces = Forces {
             springs: true,
-            ..all_off()
+            ..no_forces()
         };
         let model = built(&mesh, &material, &forces);
         let (x, v) = random_state(&mesh, 5, 0.05);
@@ -643,7 +631,7 @@ fn spring_force_is_minus_the_gradient_of_the_stretch_energy() {
 fn bending_energy_is_zero_flat_and_grows_with_the_fold() {
     let forces = Forces {
         bending: true,
-        ..all_off()
+        ..no_forces()
     };
     let mut last = -1.0;
     for phi in [0.0, 0.1, 0.4, 1.0] {
