@@ -243,7 +243,7 @@ pub fn is_frame_name(name: &str) -> bool {
         .is_some_and(|d| d.len() >= 5 && d.bytes().all(|b| b.is_ascii_digit()))
 }
 
-/// Writes one frame atomically: the time comment, `v` world positions (m), `vt` rest coordinates
+/// Writes one frame atomically, unsynced ([`super::write_atomic_unsynced`]): the time comment, `v` world positions (m), `vt` rest coordinates
 /// (m), `f v/vt` triangles of 0-based indices (written 1-based; the same index for `v` and `vt`).
 pub fn write_frame(
     path: &Path,
@@ -264,7 +264,7 @@ pub fn write_frame(
         let [a, b, c] = t.map(|i| i + 1);
         let _ = writeln!(s, "f {a}/{a} {b}/{b} {c}/{c}");
     }
-    super::write_atomic(path, s.as_bytes())
+    super::write_atomic_unsynced(path, s.as_bytes())
 }
 
 #[cfg(test)]
