@@ -205,11 +205,21 @@ fn segment_distance(q: Vec2, a: Vec2, b: Vec2) -> Real {
 
 /// Smallest interior angle of a triangle (rad).
 pub(super) fn min_angle(a: Vec2, b: Vec2, c: Vec2) -> Real {
-    let angle = |p: Vec2, q: Vec2, r: Vec2| {
-        let (u, v) = (q - p, r - p);
-        u.perp(&v).abs().atan2(u.dot(&v))
+    // The smallest angle faces the shortest side (law of sines): one arctangent, not three.
+    let (ab, bc, ca) = (
+        (b - a).norm_squared(),
+        (c - b).norm_squared(),
+        (a - c).norm_squared(),
+    );
+    let (p, q, r) = if bc <= ab && bc <= ca {
+        (a, b, c)
+    } else if ca <= ab {
+        (b, c, a)
+    } else {
+        (c, a, b)
     };
-    angle(a, b, c).min(angle(b, c, a)).min(angle(c, a, b))
+    let (u, v) = (q - p, r - p);
+    u.perp(&v).abs().atan2(u.dot(&v))
 }
 
 /// Laplacian smoothing of the new points (index `>= n_fixed`): each moves to the mean of its
@@ -275,6 +285,31 @@ mod tests {
             .iter()
             .map(|t| signed_area(m.points[t[0]], m.points[t[1]], m.points[t[2]]))
             .sum()
+    }
+
+    /// The smallest angle (the one facing the shortest side) equals the smallest of the three
+    /// angles, for acute, right, obtuse, needle and flat triangles in either orientation.
+    #[test]
+    fn min_angle_is_the_smallest_of_the_three_angles() {
+        let angle = |p: Vec2, q: Vec2, r: Vec2| {
+            let (u, v) = (q - p, r - p);
+            u.perp(&v).abs().atan2(u.dot(&v))
+        };
+        let triangles = [
+            [(0.0, 0.0), (1.0, 0.0), (0.3, 0.8)],
+            [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)],
+            [(0.0, 0.0), (3.0, 0.0), (0.2, 0.1)],
+            [(0.0, 0.0), (1.0, 0.0), (0.5, 1e-7)],
+            [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0)],
+            [(0.4, 2.0), (-1.0, 0.3), (5.0, -0.2)],
+        ];
+        for t in triangles {
+            let [a, b, c] = t.map(|(x, y)| Vec2::new(x, y));
+            for (p, q, r) in [(a, b, c), (c, b, a), (b, c, a)] {
+                let brute = angle(p, q, r).min(angle(q, r, p)).min(angle(r, p, q));
+                assert!((min_angle(p, q, r) - brute).abs() < 1e-12, "{t:?}");
+            }
+        }
     }
 
     #[test]

@@ -31,7 +31,7 @@ use crate::math::Real;
 use crate::mesh::{EdgeKey, EditError, EditRecord, FaceId};
 
 /// Refine (finer mesh in the hole) or simplify (coarser).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Mode {
     /// Re-mesh finer: density scaled by `density_refine`, cloth-border edges bisected.
     #[default]

@@ -2,7 +2,7 @@
 //! bookkeeping: the time each edge was made by a refinement, for the simplification hysteresis
 //! (`t_simplify`) and the 10 % smoothing rule of the shared criteria.
 
-use super::{components, remesh_region, Mode, RemeshParams};
+use super::{components, region_faces, remesh_region, Mode, RemeshError, RemeshParams};
 use crate::adapt::criteria::{select, EdgeInfo};
 use crate::adapt::{AdaptContext, AdaptError, AdaptReport, Adaptivity, ClothTarget};
 use crate::cloth::Cloth;
@@ -19,6 +19,8 @@ pub struct RemeshCounters {
     pub simplified: usize,
     /// Regions the mesher or the mesh refused (left as they were).
     pub refused: usize,
+    /// Of the refusals, the ones answered from memory (the same region refused before).
+    pub remembered: usize,
     /// Why the last region was refused.
     pub last_refusal: String,
     /// New triangles below the mesher's angle limit, all regions.
@@ -27,11 +29,22 @@ pub struct RemeshCounters {
     pub added_faces: usize,
 }
 
+/// A region by its faces' vertex keys (each triple sorted, the list sorted) and the mode asked:
+/// the planner works in rest space, where a vertex never moves, so the same key under the same
+/// parameters always gets the same answer.
+type RegionKey = (Mode, Vec<[VertexKey; 3]>);
+
 /// Local remeshing: regions of selected edges are removed and re-meshed in rest space.
 #[derive(Clone, Debug, Default)]
 pub struct Remesh {
     /// Simulated time (s) at which each edge (by its vertices' keys) was created by a refinement.
     refined_at: BTreeMap<(VertexKey, VertexKey), Real>,
+    /// Regions the planner refused, with the parameters they were refused under: asked again,
+    /// they are refused again without re-meshing (a refined region next to the floor is selected
+    /// again at every pass; re-planning it was most of the adaptation's time).
+    refused_plans: BTreeMap<RegionKey, String>,
+    /// The parameters `refused_plans` holds for.
+    refused_under: Option<RemeshParams>,
     /// What the strategy did so far.
     pub counters: RemeshCounters,
 }
@@ -78,6 +91,23 @@ impl Remesh {
         self.refined_at.retain(|(a, b), t| {
             mesh.resolve(*a).is_some() && mesh.resolve(*b).is_some() && now - *t < t_simplify
         });
+        self.refused_plans
+            .retain(|(_, faces), _| faces.iter().flatten().all(|&k| mesh.resolve(k).is_some()));
+    }
+
+    /// The key of the region `edges` select, `None` when an edge is gone.
+    fn region_key(mesh: &Mesh, edges: &[EdgeKey], mode: Mode) -> Option<RegionKey> {
+        let faces = region_faces(mesh, edges).ok()?;
+        let mut keys: Vec<[VertexKey; 3]> = faces
+            .iter()
+            .map(|&f| {
+                let mut k = mesh.face(f).map(|v| mesh.key(v));
+                k.sort();
+                k
+            })
+            .collect();
+        keys.sort();
+        Some((mode, keys))
     }
 
     /// Re-meshes one component through the shared edit target; a refusal leaves the cloth as it
@@ -91,6 +121,17 @@ impl Remesh {
         params: &RemeshParams,
         fresh: &mut BTreeSet<FaceId>,
     ) {
+        if self.refused_under.as_ref() != Some(params) {
+            self.refused_plans.clear();
+            self.refused_under = Some(*params);
+        }
+        let key = Self::region_key(&target.cloth.mesh, edges, mode);
+        if let Some(why) = key.as_ref().and_then(|k| self.refused_plans.get(k)) {
+            self.counters.refused += 1;
+            self.counters.remembered += 1;
+            self.counters.last_refusal = why.clone();
+            return;
+        }
         match remesh_region(target, edges, mode, params) {
             Ok((record, stats)) => {
                 fresh.extend(record.added_faces.iter().copied());
@@ -114,6 +155,9 @@ impl Remesh {
             Err(e) => {
                 self.counters.refused += 1;
                 self.counters.last_refusal = e.to_string();
+                if let (Some(k), RemeshError::NoAcceptableMesh(_)) = (key, &e) {
+                    self.refused_plans.insert(k, e.to_string());
+                }
             }
         }
     }

@@ -217,6 +217,43 @@ fn refined_edges_age_and_are_forgotten_after_t_simplify() {
     assert_eq!(s.age(&cloth.mesh, edge, 1.2), None);
 }
 
+/// A region the planner refused is answered from memory when the next pass selects it again,
+/// with the same refusal, and is planned afresh once the parameters change.
+#[test]
+fn a_refused_region_is_remembered_until_the_parameters_change() {
+    use crate::adapt::AdaptContext;
+    // No edge shorter than 0.34 m may be made: edges are selected (compression, simplification)
+    // but no hole mesh is acceptable.
+    let spec = crate::adapt::AdaptParams {
+        h_min: 0.17,
+        ..crate::adapt::AdaptParams::default()
+    };
+    let (mut s, mut cloth, report) = adapt_compressed(&spec, |_| Vec3::zeros());
+    let first = s.counters.clone();
+    assert!(first.refused >= 1 && first.remembered == 0, "{first:?}");
+    assert_eq!(report.vertices_added, 0, "{:?}", s.counters);
+    let mesh = cloth.mesh.clone();
+    let obstacles = crate::testing::obstacles(&[]);
+    let mut ctx = AdaptContext {
+        obstacles: &obstacles,
+        time: 1.01,
+        params: &spec,
+        interrupt: None,
+    };
+    s.adapt(&mut cloth, &ctx).unwrap();
+    assert_eq!(s.counters.refused, 2 * first.refused, "{:?}", s.counters);
+    assert_eq!(s.counters.remembered, first.refused);
+    assert_eq!(s.counters.last_refusal, first.last_refusal);
+    assert_eq!(cloth.mesh, mesh);
+    let changed = crate::adapt::AdaptParams {
+        remesh_min_angle: 24.0,
+        ..spec
+    };
+    ctx.params = &changed;
+    s.adapt(&mut cloth, &ctx).unwrap();
+    assert_eq!(s.counters.remembered, first.refused, "planned afresh");
+}
+
 /// `restore_energy` means for remesh what it means for every strategy: the shared transfer
 /// gives the re-meshed region back the kinetic energy that averaging velocities lost.
 #[test]
