@@ -132,6 +132,26 @@ fn write_report_file(path: &Path, text: &str) -> Result<(), CliError> {
     Ok(())
 }
 
+/// Checks, before a long suite runs, that its report can be written at `path` (exit 2 naming
+/// `--out` otherwise: a folder or device in the way, a missing permission): creates the parent
+/// folder and writes and removes the temporary file the final write will use.
+fn check_report_path(path: &Path) -> Result<(), CliError> {
+    let refuse = |why: String| CliError::Input(format!("--out {}: {why}", path.display()));
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| refuse(format!("cannot create its folder: {e}")))?;
+    }
+    if let Ok(meta) = std::fs::metadata(path) {
+        if !meta.is_file() {
+            return Err(refuse("is not a regular file".into()));
+        }
+    }
+    let tmp = crate::io::temp_path(path);
+    std::fs::write(&tmp, b"").map_err(|e| refuse(format!("cannot be written: {e}")))?;
+    let _ = std::fs::remove_file(&tmp);
+    Ok(())
+}
+
 /// Creates the output folder `dir` (exit 2 when it cannot be: a file in the way, no permission).
 fn output_folder(dir: &Path) -> Result<(), CliError> {
     std::fs::create_dir_all(dir).map_err(|e| {

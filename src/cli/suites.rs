@@ -1,7 +1,7 @@
 //! `integrators` and `stability`: the suites that write `docs/integrators.md` and
 //! `docs/stability.md`.
 
-use super::{read_input, write_report_file, CliError};
+use super::{check_report_path, read_input, write_report_file, CliError};
 use crate::study::integrators;
 use crate::study::stability::{self, CaseSizes, Search, REPORT_SEARCH};
 use std::path::Path;
@@ -28,7 +28,8 @@ pub fn integrators(write_docs: bool, docs: &Path) -> Result<(), CliError> {
 
 /// `adaptcloth stability`: the stability suite, its report written to `out` (default
 /// `docs/stability.md`, or `out/stability-quick.md` with `quick`, so a quick look never replaces
-/// the report in `docs/`). Fails (exit 1) when a hard case failed, after writing the report.
+/// the report in `docs/`). An unwritable `out` is refused (exit 2) before anything runs. Fails
+/// (exit 1) when a hard case failed, after writing the report.
 pub fn stability(out: Option<&Path>, quick: bool) -> Result<(), CliError> {
     let (search, sizes) = if quick {
         let search = Search {
@@ -46,6 +47,7 @@ pub fn stability(out: Option<&Path>, quick: bool) -> Result<(), CliError> {
     } else {
         "docs/stability.md"
     }));
+    check_report_path(out)?;
     let suite = stability::report(&search, &sizes, |s| eprintln!("adaptcloth stability: {s}"));
     write_report_file(out, &suite.markdown)?;
     if suite.failed > 0 {

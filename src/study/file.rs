@@ -40,6 +40,10 @@ use std::collections::BTreeMap;
 use std::path::Path;
 use toml::Spanned;
 
+/// Most runs a study may hold over all its scenes (a study of hundreds of runs is the intended
+/// scale; a sweep typed with thousands of values per key is refused before it is planned).
+pub const MAX_RUNS: usize = 10_000;
+
 /// A parsed study: what to run and what to measure against.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Study {
@@ -253,6 +257,23 @@ pub fn parse_study(
         }
     }
     let reference = reference_settings(&file.reference, &err)?;
+    let planned = file.runs.iter().fold(0usize, |total, run| {
+        let product = run
+            .sweep
+            .values()
+            .fold(1usize, |p, v| p.saturating_mul(v.get_ref().len().max(1)));
+        total.saturating_add(product)
+    });
+    let per_scene_limit = MAX_RUNS / file.scenes.len();
+    if planned > per_scene_limit {
+        return Err(StudyError::Config(format!(
+            "{source}: the runs and sweeps expand to {planned} runs per scene ({} in all over {} \
+             scene(s)), more than a study may hold ({MAX_RUNS}); split it into several study \
+             files (each can be sharded over a cluster: docs/studies.md)",
+            planned.saturating_mul(file.scenes.len()),
+            file.scenes.len()
+        )));
+    }
     let mut runs = Vec::new();
     for (i, run) in file.runs.iter().enumerate() {
         runs.extend(expand_run(run, i, &err)?);
@@ -425,21 +446,15 @@ fn expand_run(run: &RunToml, index: usize, err: &Errors) -> Result<Vec<RunTempla
 
 /// Two runs with the same label would write the same folder: an error naming both.
 fn check_unique_labels(runs: &[RunTemplate], source: &str) -> Result<(), StudyError> {
-    let key = |t: &RunTemplate| {
-        (
-            t.base.clone(),
-            t.resolution,
-            t.integrator.clone(),
-            t.suffix.clone(),
-        )
-    };
-    for (i, a) in runs.iter().enumerate() {
-        if let Some(b) = runs[..i].iter().find(|b| key(b) == key(a)) {
+    let mut seen = std::collections::BTreeSet::new();
+    for t in runs {
+        let key = (&t.base, t.resolution, &t.integrator, &t.suffix);
+        if !seen.insert(key) {
             return Err(StudyError::Config(format!(
                 "{source}: two runs would have the same label ({} {}{}): give one a `label`",
-                b.base,
-                b.integrator.as_deref().unwrap_or("(scene's integrator)"),
-                b.suffix
+                t.base,
+                t.integrator.as_deref().unwrap_or("(scene's integrator)"),
+                t.suffix
             )));
         }
     }
@@ -547,6 +562,29 @@ sweep = { "adaptivity.l_min" = [0.08, 0.04], "adaptivity.max_depth" = [2, 3] }
         assert_eq!(reference.scene.time.mode, crate::scene::TimeMode::Dynamic);
         assert_eq!(reference.scene.adaptivity.strategy, "static");
         assert!(!reference.scene.adaptivity.restore_energy);
+    }
+
+    /// A sweep of 299 x 299 values is refused before any run is planned, with the count.
+    #[test]
+    fn a_study_of_too_many_runs_is_refused_before_planning() {
+        let values: Vec<String> = (0..299)
+            .map(|k| format!("{}", 0.01 + k as f64 * 1e-4))
+            .collect();
+        let list = values.join(", ");
+        let text = format!(
+            "scenes = [\"sphere\", \"bunny\"]\n[[runs]]\nstrategy = \"bisect48\"\nsweep = {{ \"adaptivity.h_min\" = [{list}], \"adaptivity.l_max\" = [{list}] }}\n"
+        );
+        let started = std::time::Instant::now();
+        let m = message(&text);
+        assert!(m.contains("89401 runs per scene (178802 in all"), "{m}");
+        assert!(m.contains(&MAX_RUNS.to_string()), "{m}");
+        assert!(started.elapsed().as_secs() < 5);
+        // At the limit it is planned.
+        let list = values[..100].join(", ");
+        let text = format!(
+            "scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"bisect48\"\nsweep = {{ \"adaptivity.h_min\" = [{list}], \"adaptivity.l_max\" = [{list}] }}\n"
+        );
+        assert_eq!(parse(&text).unwrap().runs.len(), MAX_RUNS);
     }
 
     #[test]

@@ -723,6 +723,27 @@ fn errors_name_the_key_and_its_own_line() {
     }
 }
 
+/// An unwritable report path is refused at once (exit 2, naming `--out`), not after the suite.
+#[test]
+fn stability_refuses_an_unwritable_report_before_running() {
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().join("a_folder");
+    std::fs::create_dir(&folder).unwrap();
+    let file = dir.path().join("a_file");
+    std::fs::write(&file, "x").unwrap();
+    for out in [folder.clone(), file.join("report.md")] {
+        let started = std::time::Instant::now();
+        let (code, err) = adaptcloth(&["stability", "--out", out.to_str().unwrap()]);
+        assert_eq!(code, 2, "{err}");
+        assert!(err.contains("--out"), "{err}");
+        assert!(
+            !err.contains("adaptcloth stability:"),
+            "the suite ran: {err}"
+        );
+        assert!(started.elapsed().as_secs() < 30);
+    }
+}
+
 #[test]
 fn stability_quick_writes_outside_docs_and_its_exit_status_says_whether_a_case_failed() {
     let dir = tempfile::tempdir().unwrap();
