@@ -12,7 +12,8 @@
 //! (`TriMesh` with `ORIENTED | MERGE_DUPLICATE_VERTICES`, read from OBJ files). Each obstacle keeps
 //! its world AABB as a broad phase, so vertices far from an obstacle cost a few comparisons.
 //!
-//! Files: `shape` (one obstacle and its parry queries, nalgebra <-> glam conversions),
+//! Files: `shape` (one obstacle and its parry queries, nalgebra <-> glam conversions), `faces`
+//! (obstacles against the cloth's triangles: the surface penetration),
 //! `cylinder_ray` (closed-form ray entry into a cylinder, in place of parry's GJK), `grid` (mesh
 //! signed-distance bounds), `error` ([`CollisionError`]).
 //!
@@ -21,6 +22,7 @@
 
 mod cylinder_ray;
 mod error;
+mod faces;
 mod grid;
 mod params;
 mod shape;

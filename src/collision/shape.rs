@@ -178,6 +178,16 @@ impl Solid {
         Ok(obstacle)
     }
 
+    /// The parry3d shape, in the obstacle's local frame.
+    pub(crate) fn geometry(&self) -> &Geometry {
+        &self.geometry
+    }
+
+    /// The pose taking the local frame to the world.
+    pub(crate) fn pose(&self) -> &Pose {
+        &self.pose
+    }
+
     /// The triangle mesh, for mesh obstacles.
     #[cfg(test)]
     pub fn mesh(&self) -> Option<&TriMesh> {

@@ -30,8 +30,10 @@ pub struct MetricsRow {
     pub linear_momentum: Real,
     /// Kinetic energy (J).
     pub kinetic_energy: Real,
-    /// Largest depth inside an obstacle (m).
+    /// Largest depth of a vertex inside an obstacle (m).
     pub max_penetration: Real,
+    /// Largest depth of an obstacle through the cloth surface, faces included (m).
+    pub max_surface_penetration: Real,
     /// Vertices in contact during the last step.
     pub contacts: usize,
     /// Adaptation events in the last step.
@@ -85,7 +87,7 @@ impl MetricsWriter {
         write!(
             out,
             "step,t,dt,vertices,edges,faces,min_mass,max_stiffness,total_mass,linear_momentum,\
-             kinetic_energy,max_penetration,contacts,adapt_events,adapt_energy_change,gravity_energy,\
+             kinetic_energy,max_penetration,max_surface_penetration,contacts,adapt_events,adapt_energy_change,gravity_energy,\
              stretch_energy,bending_energy,total_energy,cg_iterations,cg_unconverged"
         )?;
         let mut used = Vec::new();
@@ -102,8 +104,8 @@ impl MetricsWriter {
     pub fn row(&mut self, r: &MetricsRow) -> std::io::Result<()> {
         write!(
             self.out,
-            "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{},{},{:.6e},{:.9e},{:.9e},\
-             {:.9e},{:.9e},{},{}",
+            "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{:.6e},{:.9e},\
+             {:.9e},{:.9e},{:.9e},{},{}",
             r.step,
             r.t,
             r.dt,
@@ -116,6 +118,7 @@ impl MetricsWriter {
             r.linear_momentum,
             r.kinetic_energy,
             r.max_penetration,
+            r.max_surface_penetration,
             r.contacts,
             r.adapt_events,
             r.adapt_energy_change,

@@ -32,12 +32,12 @@ pub(crate) fn fmt_s(x: f64) -> String {
 /// The comparison table (markdown).
 pub fn table(c: &Comparison) -> String {
     let mut s = String::from(
-        "| run | status | wall (s) | steps | mean / max vertices | e_rms (m) | e_final (m) | tracked (m) | Hausdorff (m) | max penetration (m) |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| run | status | wall (s) | steps | mean / max vertices | e_rms (m) | e_final (m) | tracked (m) | Hausdorff (m) | max penetration: vertices / surface (m) |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in &c.rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {:.0} / {} | {} | {} | {} | {} | {} |",
+            "| {} | {} | {} | {} | {:.0} / {} | {} | {} | {} | {} | {} / {} |",
             r.label,
             r.status,
             fmt_s(r.wall_s),
@@ -48,7 +48,8 @@ pub fn table(c: &Comparison) -> String {
             fmt_e(r.e_final),
             fmt_e(r.tracked_err),
             fmt_e(r.hausdorff),
-            fmt_e(r.max_penetration)
+            fmt_e(r.max_penetration),
+            fmt_e(r.max_surface_penetration)
         );
     }
     let f = &c.manifest.reference.floor;

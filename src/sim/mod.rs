@@ -455,6 +455,16 @@ impl Simulation {
             .fold(0.0, Real::max)
     }
 
+    /// Largest depth of an obstacle through the cloth surface, faces included (m):
+    /// [`crate::collision::Obstacles::surface_penetration`] over the live faces.
+    pub fn max_surface_penetration(&self) -> Real {
+        let mesh = &self.cloth.mesh;
+        self.obstacles.surface_penetration(
+            &self.cloth.x,
+            mesh.faces().map(|f| mesh.face(f).map(|v| v.0 as usize)),
+        )
+    }
+
     /// Locates the tracked material points again after a mesh change.
     /// Call after editing `cloth.mesh` from outside the step (experiments, tests): rebuilds the
     /// spring and bending arrays and relocates the tracked points, as the step does after an

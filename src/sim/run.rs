@@ -84,8 +84,11 @@ pub struct RunSummary {
     pub final_vertices: usize,
     /// Frames written.
     pub frames: usize,
-    /// Largest depth inside an obstacle over the recorded rows (m).
+    /// Largest depth of a vertex inside an obstacle over the recorded rows (m).
     pub max_penetration: Real,
+    /// Largest depth of an obstacle through the cloth surface (faces included) over the recorded
+    /// rows (m).
+    pub max_surface_penetration: Real,
     /// Steps whose linear solve ended above its tolerance (`implicit_euler`; 0 otherwise).
     pub cg_unconverged: u64,
     /// Steps whose direct solve failed and were solved by CG (`integrator.solver = "cholesky"`).
@@ -130,7 +133,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
     let metrics_period = 1.0 / sim.scene.time.metrics_rate;
     let mut frames = 0usize;
     let mut max_vertices = sim.cloth.mesh.vertex_count();
-    let mut max_penetration: Real = 0.0;
+    let (mut max_penetration, mut max_surface_penetration): (Real, Real) = (0.0, 0.0);
     let mut last = super::StepReport::default();
     let mut next_metrics = 0.0;
     let (mut status, mut message) = (RunStatus::Completed, String::new());
@@ -144,6 +147,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         if due_frame || done || sim.t >= next_metrics || last.adapt.events > 0 {
             let row = metrics_row(sim, &last);
             max_penetration = max_penetration.max(row.max_penetration);
+            max_surface_penetration = max_surface_penetration.max(row.max_surface_penetration);
             if let Some(Err(e)) = metrics.as_mut().map(|m| m.row(&row)) {
                 (status, message) = write_failure(sim, &metrics_path, e);
                 metrics = None;
@@ -251,6 +255,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         final_vertices: sim.cloth.mesh.vertex_count(),
         frames,
         max_penetration,
+        max_surface_penetration,
         cg_unconverged: sim.solves.unconverged,
         solver_fallbacks: sim.solves.fallbacks,
         status,
@@ -340,6 +345,7 @@ fn metrics_row(sim: &Simulation, last: &super::StepReport) -> MetricsRow {
         linear_momentum: cloth.linear_momentum().norm(),
         kinetic_energy: cloth.kinetic_energy(),
         max_penetration: sim.max_penetration(),
+        max_surface_penetration: sim.max_surface_penetration(),
         contacts: last.contacts.contacts,
         adapt_events: last.adapt.events,
         adapt_energy_change: last.adapt.kinetic_energy_change,

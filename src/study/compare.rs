@@ -141,6 +141,7 @@ fn empty_row(base: &LoadedScene, c: &RunConfig) -> Row {
         tracked_err: f64::NAN,
         hausdorff: f64::NAN,
         max_penetration: f64::NAN,
+        max_surface_penetration: f64::NAN,
         status: "error".into(),
         resolution: c.resolution,
         sim_time: 0.0,
@@ -195,6 +196,7 @@ fn run_config(
     row.steps = summary.steps;
     row.max_vertices = summary.max_vertices;
     row.max_penetration = summary.max_penetration;
+    row.max_surface_penetration = summary.max_surface_penetration;
     row.sim_time = summary.sim_time;
     let st = summary.stage_times;
     row.integrate_s = st.integrate_s;

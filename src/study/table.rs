@@ -123,6 +123,8 @@ comparison_row! {
     hausdorff: f64 => Format::Sci(6),
     /// Largest depth of a vertex inside an obstacle (m).
     max_penetration: f64 => Format::Sci(6),
+    /// Largest depth of an obstacle through the cloth surface, faces included (m).
+    max_surface_penetration: f64 => Format::Sci(6),
     /// `completed`, `diverged`, `interrupted`, `failed`, or `error` (could not start).
     status: String => Format::Plain,
     /// Starting grid (vertices per side).
@@ -315,6 +317,7 @@ pub(crate) mod tests {
             tracked_err: f64::NAN,
             hausdorff: 0.03,
             max_penetration: 0.0,
+            max_surface_penetration: 0.0,
             status: "completed".into(),
             resolution: 5,
             sim_time: 0.6,
