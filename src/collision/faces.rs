@@ -1,6 +1,9 @@
 //! The obstacles against the cloth's triangles: an obstacle poking through a face between
 //! vertices that are all outside it, which no vertex test sees. [`Obstacles::surface_penetration`]
-//! measures it (what a user sees: `max_surface_penetration`).
+//! measures it (what a user sees: `max_surface_penetration`); [`Obstacles::respond_faces`]
+//! resolves it (`[collision] mode = "face"`), Bridson et al. (2002) style: the face's contact
+//! point is moved out to the margin and loses its inward velocity by impulses spread over the
+//! face's vertices by their barycentric weights and inverse masses.
 //!
 //! The deepest point of an obstacle inside a triangle, per shape:
 //! - ground: a plane, so the lowest vertex (exact);
@@ -13,8 +16,8 @@
 //!   crossing a face between mesh vertices are not seen (the bunny's vertices are 1 to 2 cm
 //!   apart, its surface smooth at that scale).
 
-use super::shape::{Geometry, Solid};
-use super::Obstacles;
+use super::shape::{to_glam, to_na, Geometry, Solid};
+use super::{collide_velocity, Obstacles, MARGIN_SLACK};
 use crate::math::{Real, Vec3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
@@ -23,6 +26,19 @@ use parry3d_f64::shape::{Shape, TriMesh, Triangle};
 
 /// Below this length (m) an offset gives no direction.
 const DEGENERATE_LENGTH: Real = 1e-12;
+
+/// Most passes of the face response over the faces (a face pushed out may push a neighbour in;
+/// what a last pass leaves shows in `max_surface_penetration`).
+const FACE_SWEEPS: usize = 4;
+
+/// What one face pass did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FaceContactStats {
+    /// Face contacts resolved, over every sweep.
+    pub contacts: usize,
+    /// Sweeps that moved something.
+    pub sweeps: usize,
+}
 
 /// Where an obstacle comes closest to (or deepest into) a cloth triangle.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,9 +53,68 @@ pub(crate) struct TriangleContact {
 }
 
 impl Solid {
+    /// The flat face of a box or the cap of a cylinder whose outer region holds `p` (world, m):
+    /// the points outside the solid whose closest surface point lies on that one flat face. A
+    /// region is convex, so a triangle with its three vertices in one region lies in it and is
+    /// closest to the solid at a vertex. `None` elsewhere and for other shapes.
+    fn flat_region(&self, p: Vector) -> Option<u8> {
+        let local = self.pose().inverse_transform_point(p);
+        match self.geometry() {
+            Geometry::Cuboid(s) => {
+                let h = s.half_extents;
+                let out = [
+                    local.x.abs() > h.x,
+                    local.y.abs() > h.y,
+                    local.z.abs() > h.z,
+                ];
+                let axis = match out {
+                    [true, false, false] => 0,
+                    [false, true, false] => 1,
+                    [false, false, true] => 2,
+                    _ => return None,
+                };
+                Some(2 * axis + u8::from(local[axis as usize] > 0.0))
+            }
+            Geometry::Cylinder(s) => {
+                let radial = local.x * local.x + local.z * local.z;
+                (local.y.abs() > s.half_height && radial <= s.radius * s.radius)
+                    .then_some(u8::from(local.y > 0.0))
+            }
+            _ => None,
+        }
+    }
+
+    /// Whether the triangle surely has no contact closer than `band` (m) other than at its
+    /// vertices: its three vertices in one flat region ([`Solid::flat_region`]), or, for a mesh,
+    /// one vertex farther from the surface than `band` plus its longest edge (the signed
+    /// distance is 1-Lipschitz; the grid's lower bound answers without a query).
+    fn triangle_clear(&self, tri: [Vector; 3], band: Real) -> bool {
+        if let Some(region) = self.flat_region(tri[0]) {
+            if tri[1..]
+                .iter()
+                .all(|&p| self.flat_region(p) == Some(region))
+            {
+                return true;
+            }
+        }
+        if matches!(self.geometry(), Geometry::Mesh(_)) {
+            let (a, b, c) = (
+                (tri[1] - tri[0]).length(),
+                (tri[2] - tri[1]).length(),
+                (tri[0] - tri[2]).length(),
+            );
+            let reach = [a.max(c), a.max(b), b.max(c)];
+            return (0..3).any(|k| self.surely_clear(tri[k], band + reach[k]));
+        }
+        false
+    }
+
     /// The deepest (or closest) contact of this obstacle with the triangle `tri` (world, m), when
     /// its signed distance is below `band` (m); `None` otherwise.
     pub(crate) fn triangle_contact(&self, tri: [Vector; 3], band: Real) -> Option<TriangleContact> {
+        if self.triangle_clear(tri, band) {
+            return None;
+        }
         let contact = match self.geometry() {
             Geometry::Ground(_) => {
                 let h = self.pose().translation.z;
@@ -149,6 +224,20 @@ fn mesh_contact(
     best
 }
 
+/// Barycentric weights of `p` (on the triangle, m) in `tri`, clamped to the triangle.
+fn barycentric(p: Vector, tri: [Vector; 3]) -> [Real; 3] {
+    let (e1, e2, d) = (tri[1] - tri[0], tri[2] - tri[0], p - tri[0]);
+    let (a, b, c) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
+    let det = a * c - b * b;
+    if det <= 0.0 {
+        return [1.0 / 3.0; 3];
+    }
+    let (u, w) = (e1.dot(d), e2.dot(d));
+    let w1 = ((c * u - b * w) / det).clamp(0.0, 1.0);
+    let w2 = ((a * w - b * u) / det).clamp(0.0, 1.0 - w1);
+    [1.0 - w1 - w2, w1, w2]
+}
+
 /// Whether `r`, in the plane of `tri` (normal `n`, unnormalised), lies in the closed triangle.
 fn inside_triangle(r: Vector, tri: [Vector; 3], n: Vector) -> bool {
     (0..3).all(|k| {
@@ -158,6 +247,98 @@ fn inside_triangle(r: Vector, tri: [Vector; 3], n: Vector) -> bool {
 }
 
 impl Obstacles {
+    /// Face pass after [`Obstacles::respond`] (when the obstacles were built with
+    /// `ContactParams::faces`; otherwise nothing): for each face of `faces` (vertex indices into
+    /// `x`, world positions in m) with a movable vertex, and each obstacle but the ground (a
+    /// plane meets a face first at a vertex), the deepest contact closer than the margin moves
+    /// the face's contact point out to the margin along the obstacle's normal and removes its
+    /// inward normal velocity, with Coulomb friction as for vertices (`mu` the mean of the
+    /// cloth's and the obstacle's). Both changes are spread over the vertices as
+    /// `w_k inv_mass_k / sum_j w_j^2 inv_mass_j` times the change at the point (`w` its
+    /// barycentric weights), so the point moves exactly as asked and pinned vertices never move.
+    /// Up to [`FACE_SWEEPS`] sweeps, until one moves nothing.
+    pub fn respond_faces(
+        &self,
+        faces: &[[usize; 3]],
+        x: &mut [Vec3],
+        v: &mut [Vec3],
+        inv_mass: &[Real],
+        cloth_mu: Real,
+    ) -> FaceContactStats {
+        let mut stats = FaceContactStats::default();
+        if !self.faces {
+            return stats;
+        }
+        let margin = self.margin;
+        // The first sweep visits every face; later ones only the faces the previous one moved
+        // (a face pushed out moves its vertices outward, seldom a neighbour inward).
+        let mut active: Vec<usize> = (0..faces.len()).collect();
+        let mut next = Vec::new();
+        for _ in 0..FACE_SWEEPS {
+            next.clear();
+            for &k in &active {
+                let f = faces[k];
+                if self.resolve_face(f, x, v, inv_mass, cloth_mu, margin) {
+                    next.push(k);
+                }
+            }
+            if next.is_empty() {
+                break;
+            }
+            stats.contacts += next.len();
+            stats.sweeps += 1;
+            std::mem::swap(&mut active, &mut next);
+        }
+        stats
+    }
+
+    /// One face against every obstacle but the ground; true when a contact moved it.
+    fn resolve_face(
+        &self,
+        f: [usize; 3],
+        x: &mut [Vec3],
+        v: &mut [Vec3],
+        inv_mass: &[Real],
+        cloth_mu: Real,
+        margin: Real,
+    ) -> bool {
+        let inv = f.map(|i| inv_mass[i]);
+        if inv.iter().all(|&m| m <= 0.0) {
+            return false;
+        }
+        let mut moved = false;
+        for ob in &self.obstacles {
+            if matches!(ob.geometry(), Geometry::Ground(_)) {
+                continue;
+            }
+            let tri = f.map(|i| to_glam(x[i]));
+            let lo = tri[0].min(tri[1]).min(tri[2]);
+            let hi = tri[0].max(tri[1]).max(tri[2]);
+            if !ob.overlaps(lo, hi, margin) {
+                continue;
+            }
+            let Some(c) = ob.triangle_contact(tri, margin - MARGIN_SLACK) else {
+                continue;
+            };
+            let w = barycentric(c.point, tri);
+            let s: Real = (0..3).map(|k| w[k] * w[k] * inv[k]).sum();
+            if s <= 0.0 {
+                continue;
+            }
+            let push = c.normal * (margin - c.distance);
+            let velocity: Vector = (0..3).map(|k| to_glam(v[f[k]]) * w[k]).sum();
+            let mu = 0.5 * (cloth_mu + ob.friction);
+            let dv = collide_velocity(velocity, c.normal, 0.0, mu) - velocity;
+            for k in 0..3 {
+                let share = w[k] * inv[k] / s;
+                x[f[k]] += to_na(push * share);
+                v[f[k]] += to_na(dv * share);
+            }
+            moved = true;
+        }
+        moved
+    }
+
     /// The deepest point of any obstacle inside the cloth surface (m): over the triangles `faces`
     /// (vertex indices into `x`, world positions in m) and the obstacles whose bounding box meets
     /// a triangle's, the largest depth by which an obstacle pokes through a triangle; 0 when none
@@ -169,7 +350,7 @@ impl Obstacles {
     ) -> Real {
         let mut deepest: Real = 0.0;
         for f in faces {
-            let tri = f.map(|i| super::shape::to_glam(x[i]));
+            let tri = f.map(|i| to_glam(x[i]));
             let lo = tri[0].min(tri[1]).min(tri[2]);
             let hi = tri[0].max(tri[1]).max(tri[2]);
             for ob in &self.obstacles {
@@ -239,6 +420,39 @@ mod tests {
     /// middle crosses the vertical edge x = y = 1 (the corner region x + y >= 1.7 is inside).
     fn over_the_corner(z: Real) -> [Vec3; 3] {
         [v(0.2, 1.5, z), v(1.5, 0.2, z), v(1.5, 1.5, z)]
+    }
+
+    /// A wide face through a frictionless sphere, its centroid over the centre: the pass lifts
+    /// the contact point to the margin in one move, removes its inward velocity and changes the
+    /// momentum only along the normal. With a vertex pinned, that vertex never moves and the
+    /// sphere still ends outside the face.
+    #[test]
+    fn a_face_through_a_sphere_is_pushed_to_the_margin_by_barycentric_impulses() {
+        let shape = ObstacleShape::Sphere {
+            center: [0.0, 0.0, 0.0],
+            radius: 1.0,
+        };
+        let params = crate::collision::ContactParams {
+            faces: true,
+            ..Default::default()
+        };
+        let obs = Obstacles::build(&[Obstacle::new(shape)], &params).unwrap();
+        let margin = obs.margin();
+        let start = vec![v(-3.0, -3.0, 0.9), v(3.0, -3.0, 0.9), v(0.0, 6.0, 0.9)];
+        let (mut x, mut vel) = (start.clone(), vec![v(0.3, 0.0, -1.0); 3]);
+        let stats = obs.respond_faces(&[[0, 1, 2]], &mut x, &mut vel, &[1.0; 3], 0.0);
+        assert_eq!(stats.contacts, 1, "{stats:?}");
+        for k in 0..3 {
+            assert!((x[k] - start[k] - v(0.0, 0.0, 0.1 + margin)).norm() < 1e-12);
+            // Momentum (unit masses) changed along the normal only, by the removed speed.
+            assert!((vel[k] - v(0.3, 0.0, 0.0)).norm() < 1e-12, "{}", vel[k]);
+        }
+        assert_eq!(depth(&obs, [x[0], x[1], x[2]]), 0.0);
+
+        let (mut x, mut vel) = (start.clone(), vec![v(0.3, 0.0, -1.0); 3]);
+        obs.respond_faces(&[[0, 1, 2]], &mut x, &mut vel, &[1.0, 2.0, 0.0], 0.0);
+        assert_eq!((x[2], vel[2]), (start[2], v(0.3, 0.0, -1.0)));
+        assert_eq!(depth(&obs, [x[0], x[1], x[2]]), 0.0);
     }
 
     #[test]

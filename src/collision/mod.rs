@@ -30,6 +30,7 @@ mod shape;
 mod tests;
 
 pub use error::CollisionError;
+pub use faces::FaceContactStats;
 pub use params::{ContactParams, Obstacle, ObstacleShape};
 
 use crate::math::{Real, Vec3};
@@ -49,6 +50,7 @@ pub struct Obstacles {
     obstacles: Vec<Solid>,
     margin: Real,
     restitution: Real,
+    faces: bool,
 }
 
 /// What one collision pass did.
@@ -133,6 +135,7 @@ impl Obstacles {
             obstacles,
             margin: contact.margin,
             restitution: contact.restitution,
+            faces: contact.faces,
         })
     }
 

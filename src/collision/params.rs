@@ -14,6 +14,9 @@ pub struct ContactParams {
     /// Restitution `gamma` in (0, 1) (4.16), for obstacles that do not set their own.
     /// Default 0.5.
     pub restitution: Real,
+    /// Whether faces collide too ([`crate::collision::Obstacles::respond_faces`]), not only
+    /// vertices. Default false.
+    pub faces: bool,
 }
 
 impl Default for ContactParams {
@@ -21,6 +24,7 @@ impl Default for ContactParams {
         ContactParams {
             margin: 2e-3,
             restitution: 0.5,
+            faces: false,
         }
     }
 }

@@ -11,6 +11,7 @@ fn collision() -> ContactParams {
     ContactParams {
         margin: MARGIN,
         restitution: GAMMA,
+        faces: false,
     }
 }
 

@@ -4,8 +4,8 @@
 //! scene's folder.
 
 use super::spec::{
-    AdaptivitySpec, CollisionSpec, CriteriaSpec, ForcesSpec, IntegratorSpec, LinearSolver,
-    MaterialSpec, ObstacleShape, ObstacleSpec, SpringMode, StiffnessModel,
+    AdaptivitySpec, CollisionMode, CollisionSpec, CriteriaSpec, ForcesSpec, IntegratorSpec,
+    LinearSolver, MaterialSpec, ObstacleShape, ObstacleSpec, SpringMode, StiffnessModel,
 };
 use super::LoadedScene;
 use crate::adapt::{self, AdaptParams};
@@ -89,6 +89,7 @@ impl From<&CollisionSpec> for ContactParams {
         ContactParams {
             margin: c.margin,
             restitution: c.restitution,
+            faces: c.mode == CollisionMode::Face,
         }
     }
 }

@@ -334,6 +334,8 @@ pub struct CollisionSpec {
     /// Restitution `gamma` in (0, 1) (4.16), unless an obstacle sets its own. Default 0.5.
     #[serde(alias = "gamma")]
     pub restitution: Real,
+    /// What of the cloth meets the obstacles. Default `vertex`.
+    pub mode: CollisionMode,
 }
 
 impl Default for CollisionSpec {
@@ -341,8 +343,21 @@ impl Default for CollisionSpec {
         CollisionSpec {
             margin: 2e-3,
             restitution: 0.5,
+            mode: CollisionMode::Vertex,
         }
     }
+}
+
+/// What of the cloth meets the obstacles (`[collision] mode`).
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq, Eq, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum CollisionMode {
+    /// Vertices only, as in the source: an obstacle may poke through a face between vertices.
+    #[default]
+    Vertex,
+    /// Vertices, then every face: an obstacle within the margin of a face pushes it out by
+    /// impulses spread over the face's vertices.
+    Face,
 }
 
 /// The geometry of a static obstacle.

@@ -21,7 +21,7 @@ use crate::physics::{
     make_integrator, Integrator, StabilityLimit, StepStats, ITERATIONS_AFTER_EDIT,
     STEPS_PER_ITERATION,
 };
-use crate::scene::{LoadedScene, OnUnconverged, Scene, TimeMode, MAX_STEPS};
+use crate::scene::{CollisionMode, LoadedScene, OnUnconverged, Scene, TimeMode, MAX_STEPS};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
@@ -136,6 +136,8 @@ pub struct Simulation {
     locator: RestLocator,
     contact_seen: bool,
     x_start: Vec<Vec3>,
+    /// The live faces as vertex slots and the mesh version they were listed at (face contact).
+    faces: (u64, Vec<[usize; 3]>),
     /// The stability limit the dynamic step formula does not see (damping, bending) and the mesh
     /// version it was last updated on (dynamic steps of explicit integrators only).
     stability: (u64, StabilityLimit),
@@ -191,6 +193,7 @@ impl Simulation {
             locator,
             contact_seen: false,
             x_start: Vec::new(),
+            faces: (u64::MAX, Vec::new()),
             stability: (u64::MAX, StabilityLimit::default()),
             last_adapt: None,
             drivers,
@@ -352,14 +355,16 @@ impl Simulation {
         let contacts = if self.obstacles.is_empty() {
             ContactStats::default()
         } else {
-            self.obstacles.respond(
+            let mut stats = self.obstacles.respond(
                 &self.x_start,
                 &mut cloth.x,
                 &mut cloth.v,
                 cloth.model.inv_mass(),
                 self.scene.material.mu,
                 dt,
-            )
+            );
+            stats.contacts += self.face_pass();
+            stats
         };
         self.contact_seen |= contacts.contacts > 0;
         self.stage_times.collide_s += secs(clock.elapsed());
@@ -417,6 +422,10 @@ impl Simulation {
             self.cloth.refresh();
             self.relocate_tracked();
             self.stage_times.rebuild_s += secs(clock.elapsed());
+            // New faces (a coarsened region over an obstacle) start outside, as new vertices do.
+            let clock = Instant::now();
+            self.face_pass();
+            self.stage_times.collide_s += secs(clock.elapsed());
         }
         Ok(StepReport {
             dt,
@@ -424,6 +433,33 @@ impl Simulation {
             adapt,
             integrator,
         })
+    }
+
+    /// The face contact pass ([`crate::collision::Obstacles::respond_faces`]) when
+    /// `collision.mode = "face"`, over the live faces (listed again after a mesh change);
+    /// returns the face contacts resolved (0 in vertex mode).
+    fn face_pass(&mut self) -> usize {
+        if self.scene.collision.mode != CollisionMode::Face || self.obstacles.is_empty() {
+            return 0;
+        }
+        let cloth = &mut self.cloth;
+        if self.faces.0 != cloth.mesh.version() {
+            let mesh = &cloth.mesh;
+            self.faces.1.clear();
+            self.faces
+                .1
+                .extend(mesh.faces().map(|f| mesh.face(f).map(|v| v.0 as usize)));
+            self.faces.0 = mesh.version();
+        }
+        self.obstacles
+            .respond_faces(
+                &self.faces.1,
+                &mut cloth.x,
+                &mut cloth.v,
+                cloth.model.inv_mass(),
+                self.scene.material.mu,
+            )
+            .contacts
     }
 
     /// Whether the adapt stage runs this step: always for the first pass, then once at least

@@ -5,6 +5,7 @@ mod cli;
 mod common;
 mod compare;
 mod consistency;
+mod contact;
 mod golden;
 mod integrators;
 mod physics_laws;
