@@ -162,8 +162,15 @@ pub fn select_source(
         // 2. Collision, unless the contact is flat.
         if let Some(hit) = obstacles.edge_hit(xa, xb) {
             let mean: Vec3 = faces.iter().map(|f| face_normal(cloth, f)).sum();
+            // With face contact an edge rests on a curved obstacle as a tangent (it never crosses
+            // it), so the contact is flat only where the obstacle is flat under the whole edge.
             let flat = mean.norm() > 0.0
-                && (mean.normalize().dot(&hit.normal)).abs() >= spec.flat_contact_cos;
+                && (mean.normalize().dot(&hit.normal)).abs() >= spec.flat_contact_cos
+                && (!obstacles.face_contact()
+                    || [xa, xb].iter().all(|&p| {
+                        obstacles.normal_of(hit.obstacle, p).dot(&hit.normal)
+                            >= spec.flat_contact_cos
+                    }));
             if !flat {
                 if can_refine {
                     refine.push((e, RefineReason::Collision));

@@ -22,7 +22,7 @@ use crate::math::{Real, Vec3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query::PointQuery;
-use parry3d_f64::shape::{Shape, TriMesh, Triangle};
+use parry3d_f64::shape::{Segment, Shape, TriMesh, Triangle};
 
 /// Below this length (m) an offset gives no direction.
 const DEGENERATE_LENGTH: Real = 1e-12;
@@ -30,6 +30,13 @@ const DEGENERATE_LENGTH: Real = 1e-12;
 /// Most passes of the face response over the faces (a face pushed out may push a neighbour in;
 /// what a last pass leaves shows in `max_surface_penetration`).
 const FACE_SWEEPS: usize = 4;
+
+/// Reusable lists of the face pass (so a steady-state step allocates nothing).
+#[derive(Clone, Debug, Default)]
+pub struct FaceScratch {
+    active: Vec<usize>,
+    next: Vec<usize>,
+}
 
 /// What one face pass did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -247,6 +254,40 @@ fn inside_triangle(r: Vector, tri: [Vector; 3], n: Vector) -> bool {
 }
 
 impl Obstacles {
+    /// The obstacle closest to the segment `a -> b` (m) among those nearer than `band` (m), by
+    /// parry's contact between the segment and the obstacle; the point and outward normal are the
+    /// obstacle's projection of the segment's closest point.
+    pub(super) fn edge_touch(&self, a: Vec3, b: Vec3, band: Real) -> Option<super::EdgeHit> {
+        let (p, q) = (to_glam(a), to_glam(b));
+        let segment = Segment::new(p, q);
+        let (lo, hi) = (p.min(q), p.max(q));
+        let mut best: Option<(Real, super::EdgeHit)> = None;
+        for (k, ob) in self.obstacles.iter().enumerate() {
+            if !ob.overlaps(lo, hi, band) {
+                continue;
+            }
+            let Ok(Some(c)) = parry3d_f64::query::contact(
+                &Pose::identity(),
+                &segment,
+                ob.pose(),
+                ob.shape(),
+                band,
+            ) else {
+                continue;
+            };
+            if best.as_ref().is_none_or(|(d, _)| c.dist < *d) {
+                let proj = ob.project(c.point1);
+                let hit = super::EdgeHit {
+                    obstacle: k,
+                    point: to_na(proj.point),
+                    normal: to_na(proj.normal),
+                };
+                best = Some((c.dist, hit));
+            }
+        }
+        best.map(|(_, hit)| hit)
+    }
+
     /// Face pass after [`Obstacles::respond`] (when the obstacles were built with
     /// `ContactParams::faces`; otherwise nothing): for each face of `faces` (vertex indices into
     /// `x`, world positions in m) with a movable vertex, and each obstacle but the ground (a
@@ -264,6 +305,7 @@ impl Obstacles {
         v: &mut [Vec3],
         inv_mass: &[Real],
         cloth_mu: Real,
+        scratch: &mut FaceScratch,
     ) -> FaceContactStats {
         let mut stats = FaceContactStats::default();
         if !self.faces {
@@ -272,11 +314,14 @@ impl Obstacles {
         let margin = self.margin;
         // The first sweep visits every face; later ones only the faces the previous one moved
         // (a face pushed out moves its vertices outward, seldom a neighbour inward).
-        let mut active: Vec<usize> = (0..faces.len()).collect();
-        let mut next = Vec::new();
+        let FaceScratch { active, next } = scratch;
+        active.clear();
+        active.extend(0..faces.len());
+        next.clear();
+        next.reserve(faces.len());
         for _ in 0..FACE_SWEEPS {
             next.clear();
-            for &k in &active {
+            for &k in active.iter() {
                 let f = faces[k];
                 if self.resolve_face(f, x, v, inv_mass, cloth_mu, margin) {
                     next.push(k);
@@ -287,7 +332,7 @@ impl Obstacles {
             }
             stats.contacts += next.len();
             stats.sweeps += 1;
-            std::mem::swap(&mut active, &mut next);
+            std::mem::swap(active, next);
         }
         stats
     }
@@ -440,7 +485,8 @@ mod tests {
         let margin = obs.margin();
         let start = vec![v(-3.0, -3.0, 0.9), v(3.0, -3.0, 0.9), v(0.0, 6.0, 0.9)];
         let (mut x, mut vel) = (start.clone(), vec![v(0.3, 0.0, -1.0); 3]);
-        let stats = obs.respond_faces(&[[0, 1, 2]], &mut x, &mut vel, &[1.0; 3], 0.0);
+        let scratch = &mut FaceScratch::default();
+        let stats = obs.respond_faces(&[[0, 1, 2]], &mut x, &mut vel, &[1.0; 3], 0.0, scratch);
         assert_eq!(stats.contacts, 1, "{stats:?}");
         for k in 0..3 {
             assert!((x[k] - start[k] - v(0.0, 0.0, 0.1 + margin)).norm() < 1e-12);
@@ -450,9 +496,47 @@ mod tests {
         assert_eq!(depth(&obs, [x[0], x[1], x[2]]), 0.0);
 
         let (mut x, mut vel) = (start.clone(), vec![v(0.3, 0.0, -1.0); 3]);
-        obs.respond_faces(&[[0, 1, 2]], &mut x, &mut vel, &[1.0, 2.0, 0.0], 0.0);
+        obs.respond_faces(
+            &[[0, 1, 2]],
+            &mut x,
+            &mut vel,
+            &[1.0, 2.0, 0.0],
+            0.0,
+            scratch,
+        );
         assert_eq!((x[2], vel[2]), (start[2], v(0.3, 0.0, -1.0)));
         assert_eq!(depth(&obs, [x[0], x[1], x[2]]), 0.0);
+    }
+
+    /// With face contact an edge resting within the margin band on a sphere meets it (the
+    /// criteria's collision test); with vertex contact only a crossing counts.
+    #[test]
+    fn an_edge_resting_on_a_sphere_meets_it_only_with_face_contact() {
+        let sphere = [Obstacle::new(ObstacleShape::Sphere {
+            center: [0.0, 0.0, 0.0],
+            radius: 1.0,
+        })];
+        let build = |faces: bool| {
+            let params = crate::collision::ContactParams {
+                faces,
+                ..Default::default()
+            };
+            Obstacles::build(&sphere, &params).unwrap()
+        };
+        let (a, b) = (v(-0.5, 0.0, 1.001), v(0.5, 0.0, 1.001));
+        assert_eq!(build(false).edge_hit(a, b), None);
+        let hit = build(true)
+            .edge_hit(a, b)
+            .expect("the edge rests on the sphere");
+        assert!(
+            (hit.point - v(0.0, 0.0, 1.0)).norm() < 1e-9,
+            "{}",
+            hit.point
+        );
+        assert!((hit.normal - v(0.0, 0.0, 1.0)).norm() < 1e-9);
+        // 1 cm above: clear in both modes.
+        let lift = v(0.0, 0.0, 0.01);
+        assert_eq!(build(true).edge_hit(a + lift, b + lift), None);
     }
 
     #[test]

@@ -30,7 +30,7 @@ mod shape;
 mod tests;
 
 pub use error::CollisionError;
-pub use faces::FaceContactStats;
+pub use faces::{FaceContactStats, FaceScratch};
 pub use params::{ContactParams, Obstacle, ObstacleShape};
 
 use crate::math::{Real, Vec3};
@@ -40,6 +40,10 @@ use shape::{to_glam, to_na, Solid};
 /// How many push-out sweeps over the obstacles a point gets (a point wedged between two
 /// obstacles may be pushed back and forth; after this many sweeps the last position stands).
 const PUSH_OUT_SWEEPS: usize = 4;
+
+/// With face contact, an edge closer than this many collision margins to an obstacle meets it
+/// (for the adaptivity criteria: faces held at the margin never cross a surface).
+pub const TOUCH_MARGINS: Real = 1.5;
 
 /// Slack (m) below the margin before a point counts as too close: a point just pushed to the
 /// margin sits there up to rounding and must not be pushed again.
@@ -147,6 +151,16 @@ impl Obstacles {
     /// Number of obstacles.
     pub fn len(&self) -> usize {
         self.obstacles.len()
+    }
+
+    /// Whether faces collide too (`ContactParams::faces`).
+    pub fn face_contact(&self) -> bool {
+        self.faces
+    }
+
+    /// Outward unit normal of obstacle `index` at its surface point closest to `p` (m).
+    pub fn normal_of(&self, index: usize, p: Vec3) -> Vec3 {
+        to_na(self.obstacles[index].project(to_glam(p)).normal)
     }
 
     /// Collision margin (m): vertices are kept this far off every surface.
@@ -305,10 +319,22 @@ impl Obstacles {
         (p, pushed, false)
     }
 
-    /// Edge query for the adaptivity criteria: does the segment `a -> b` (m) enter an obstacle or
-    /// lie inside it? Returns the first such point along `a -> b` (`a` itself when `a` is inside)
-    /// with the obstacle's outward unit normal there; ties go to the lower obstacle index.
+    /// Edge query for the adaptivity criteria: does the segment `a -> b` (m) meet an obstacle?
+    /// It does when it enters one or lies inside one: the first such point along `a -> b` (`a`
+    /// itself when `a` is inside) with the obstacle's outward unit normal there, ties to the lower
+    /// obstacle index. With face contact on, no edge ever crosses a surface (faces are held at
+    /// the margin), so an edge also meets an obstacle when it comes within
+    /// [`TOUCH_MARGINS`] margins of it: the closest obstacle's point and normal.
     pub fn edge_hit(&self, a: Vec3, b: Vec3) -> Option<EdgeHit> {
+        self.edge_crossing(a, b).or_else(|| {
+            self.faces
+                .then(|| self.edge_touch(a, b, TOUCH_MARGINS * self.margin))
+                .flatten()
+        })
+    }
+
+    /// The first point where the segment `a -> b` enters an obstacle or lies inside one.
+    fn edge_crossing(&self, a: Vec3, b: Vec3) -> Option<EdgeHit> {
         let (a, b) = (to_glam(a), to_glam(b));
         let (lo, hi) = (a.min(b), a.max(b));
         let mut best: Option<(Real, EdgeHit)> = None;

@@ -183,6 +183,17 @@ impl Solid {
         &self.geometry
     }
 
+    /// The parry3d shape as a trait object (for parry's generic queries).
+    pub(crate) fn shape(&self) -> &dyn Shape {
+        match &self.geometry {
+            Geometry::Ground(s) => s,
+            Geometry::Ball(s) => s,
+            Geometry::Cylinder(s) => s,
+            Geometry::Cuboid(s) => s,
+            Geometry::Mesh(s) => s.as_ref(),
+        }
+    }
+
     /// The pose taking the local frame to the world.
     pub(crate) fn pose(&self) -> &Pose {
         &self.pose

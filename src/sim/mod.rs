@@ -14,7 +14,7 @@ pub use setup::{build_cloth, SetupError};
 
 use crate::adapt::{AdaptContext, AdaptParams, AdaptReport, Adaptivity};
 use crate::cloth::Cloth;
-use crate::collision::{ContactStats, Obstacles};
+use crate::collision::{ContactStats, FaceScratch, Obstacles};
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{Barycentric, RestLocator};
 use crate::physics::{
@@ -137,7 +137,7 @@ pub struct Simulation {
     contact_seen: bool,
     x_start: Vec<Vec3>,
     /// The live faces as vertex slots and the mesh version they were listed at (face contact).
-    faces: (u64, Vec<[usize; 3]>),
+    faces: (u64, Vec<[usize; 3]>, FaceScratch),
     /// The stability limit the dynamic step formula does not see (damping, bending) and the mesh
     /// version it was last updated on (dynamic steps of explicit integrators only).
     stability: (u64, StabilityLimit),
@@ -193,7 +193,7 @@ impl Simulation {
             locator,
             contact_seen: false,
             x_start: Vec::new(),
-            faces: (u64::MAX, Vec::new()),
+            faces: (u64::MAX, Vec::new(), FaceScratch::default()),
             stability: (u64::MAX, StabilityLimit::default()),
             last_adapt: None,
             drivers,
@@ -458,6 +458,7 @@ impl Simulation {
                 &mut cloth.v,
                 cloth.model.inv_mass(),
                 self.scene.material.mu,
+                &mut self.faces.2,
             )
             .contacts
     }
