@@ -196,7 +196,8 @@ fn mesh_contact(
     }
     let reach = (b - a).length().max((c - b).length()).max((a - c).length());
     let pad = Vector::splat(reach.max(band));
-    let aabb = Aabb::new(a.min(b).min(c) - pad, a.max(b).max(c) + pad);
+    let (lo, hi) = bounds(tri);
+    let aabb = Aabb::new(lo - pad, hi + pad);
     let unit = n / area2;
     let vertices = mesh.vertices();
     let mut best: Option<TriangleContact> = None;
@@ -229,6 +230,14 @@ fn mesh_contact(
         }
     }
     best
+}
+
+/// The bounding box `(lo, hi)` of a triangle (m).
+fn bounds(tri: [Vector; 3]) -> (Vector, Vector) {
+    (
+        tri[0].min(tri[1]).min(tri[2]),
+        tri[0].max(tri[1]).max(tri[2]),
+    )
 }
 
 /// Barycentric weights of `p` (on the triangle, m) in `tri`, clamped to the triangle.
@@ -357,8 +366,7 @@ impl Obstacles {
                 continue;
             }
             let tri = f.map(|i| to_glam(x[i]));
-            let lo = tri[0].min(tri[1]).min(tri[2]);
-            let hi = tri[0].max(tri[1]).max(tri[2]);
+            let (lo, hi) = bounds(tri);
             if !ob.overlaps(lo, hi, margin) {
                 continue;
             }
@@ -396,8 +404,7 @@ impl Obstacles {
         let mut deepest: Real = 0.0;
         for f in faces {
             let tri = f.map(|i| to_glam(x[i]));
-            let lo = tri[0].min(tri[1]).min(tri[2]);
-            let hi = tri[0].max(tri[1]).max(tri[2]);
+            let (lo, hi) = bounds(tri);
             for ob in &self.obstacles {
                 if !ob.overlaps(lo, hi, 0.0) {
                     continue;

@@ -210,6 +210,12 @@ impl Mesh {
             .map(FaceId)
     }
 
+    /// The live faces as the slot indices of their vertices (indices into per-slot arrays such
+    /// as the cloth's positions), in [`Mesh::faces`] order.
+    pub fn face_vertex_slots(&self) -> impl Iterator<Item = [usize; 3]> + '_ {
+        self.faces().map(|f| self.face(f).map(|v| v.0 as usize))
+    }
+
     /// Edges in key order, with their adjacent faces.
     pub fn edges(&self) -> impl Iterator<Item = (EdgeKey, &EdgeFaces)> + '_ {
         self.edges.iter().map(|(k, f)| (*k, f))

@@ -446,9 +446,7 @@ impl Simulation {
         if self.faces.0 != cloth.mesh.version() {
             let mesh = &cloth.mesh;
             self.faces.1.clear();
-            self.faces
-                .1
-                .extend(mesh.faces().map(|f| mesh.face(f).map(|v| v.0 as usize)));
+            self.faces.1.extend(mesh.face_vertex_slots());
             self.faces.0 = mesh.version();
         }
         self.obstacles
@@ -495,11 +493,8 @@ impl Simulation {
     /// Largest depth of an obstacle through the cloth surface, faces included (m):
     /// [`crate::collision::Obstacles::surface_penetration`] over the live faces.
     pub fn max_surface_penetration(&self) -> Real {
-        let mesh = &self.cloth.mesh;
-        self.obstacles.surface_penetration(
-            &self.cloth.x,
-            mesh.faces().map(|f| mesh.face(f).map(|v| v.0 as usize)),
-        )
+        self.obstacles
+            .surface_penetration(&self.cloth.x, self.cloth.mesh.face_vertex_slots())
     }
 
     /// Locates the tracked material points again after a mesh change.
