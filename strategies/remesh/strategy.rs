@@ -19,6 +19,8 @@ pub struct RemeshCounters {
     pub simplified: usize,
     /// Regions the mesher or the mesh refused (left as they were).
     pub refused: usize,
+    /// Of those, the regions whose re-meshing would have added energy (the energy law).
+    pub energy_refused: usize,
     /// Why the last region was refused.
     pub last_refusal: String,
     /// New triangles below the mesher's angle limit, all regions.
@@ -113,6 +115,9 @@ impl Remesh {
             }
             Err(e) => {
                 self.counters.refused += 1;
+                if matches!(e, super::RemeshError::AddsEnergy { .. }) {
+                    self.counters.energy_refused += 1;
+                }
                 self.counters.last_refusal = e.to_string();
             }
         }
