@@ -1,6 +1,7 @@
 //! The [`Adaptivity`] implementation of local remeshing (MODEL.md §8.2) and its per-edge
 //! bookkeeping: the time each edge was made by a refinement, for the simplification hysteresis
-//! (`t_simplify`) and the 10 % smoothing rule of the shared criteria.
+//! (`t_simplify`) and the 10 % smoothing rule of the shared criteria, and the time the energy law
+//! last refused a region holding it (such edges wait `t_simplify` before being tried again).
 
 use super::{components, remesh_region, Mode, RemeshParams};
 use crate::adapt::criteria::{select, EdgeInfo};
@@ -34,6 +35,8 @@ pub struct RemeshCounters {
 pub struct Remesh {
     /// Simulated time (s) at which each edge (by its vertices' keys) was created by a refinement.
     refined_at: BTreeMap<(VertexKey, VertexKey), Real>,
+    /// Simulated time (s) at which the energy law last refused a region selected by each edge.
+    refused_at: BTreeMap<(VertexKey, VertexKey), Real>,
     /// What the strategy did so far.
     pub counters: RemeshCounters,
 }
@@ -75,11 +78,19 @@ impl Remesh {
     }
 
     /// Forgets entries whose vertices are gone or whose age reached `t_simplify` (both thresholds
-    /// of the criteria are at most `t_simplify`, so such an edge counts as old either way).
+    /// of the criteria are at most `t_simplify`, so such an edge counts as old either way; a
+    /// refused edge may be tried again).
     pub(super) fn prune(&mut self, mesh: &Mesh, now: Real, t_simplify: Real) {
-        self.refined_at.retain(|(a, b), t| {
+        let live = |(a, b): &(VertexKey, VertexKey), t: &mut Real| {
             mesh.resolve(*a).is_some() && mesh.resolve(*b).is_some() && now - *t < t_simplify
-        });
+        };
+        self.refined_at.retain(live);
+        self.refused_at.retain(live);
+    }
+
+    /// True when the energy law refused a region of `edge` less than `t_simplify` ago (pruned).
+    fn waiting(&self, mesh: &Mesh, edge: EdgeKey) -> bool {
+        self.refused_at.contains_key(&edge_keys(mesh, edge))
     }
 
     /// Re-meshes one component through the shared edit target; a refusal leaves the cloth as it
@@ -117,6 +128,10 @@ impl Remesh {
                 self.counters.refused += 1;
                 if matches!(e, super::RemeshError::AddsEnergy { .. }) {
                     self.counters.energy_refused += 1;
+                    let mesh = &target.cloth.mesh;
+                    for &e in edges {
+                        self.refused_at.insert(edge_keys(mesh, e), now);
+                    }
                 }
                 self.counters.last_refusal = e.to_string();
             }
@@ -145,7 +160,12 @@ impl Adaptivity for Remesh {
         let params = RemeshParams::from_adapt(spec);
         let mut target = ctx.edit_target(cloth);
         let mut fresh = BTreeSet::new();
-        let refine: Vec<EdgeKey> = selection.refine.iter().map(|(e, _)| *e).collect();
+        let refine: Vec<EdgeKey> = selection
+            .refine
+            .iter()
+            .map(|(e, _)| *e)
+            .filter(|&e| !self.waiting(&target.cloth.mesh, e))
+            .collect();
         for group in components(&target.cloth.mesh, &refine) {
             if ctx.interrupted() {
                 return Ok(target.report);
@@ -164,6 +184,7 @@ impl Adaptivity for Remesh {
                     .mesh
                     .edge(e.0, e.1)
                     .is_some_and(|ef| ef.iter().all(|f| !fresh.contains(&f)))
+                    && !self.waiting(&target.cloth.mesh, *e)
             })
             .collect();
         for group in components(&target.cloth.mesh, &simplify) {
