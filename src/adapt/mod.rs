@@ -7,16 +7,24 @@
 //! ([`AdaptContext::edit_target`], a [`ClothTarget`] over [`apply_edit_with`]), which checks
 //! conformity, transfers state to new vertices, recomputes touched masses, restores the region's
 //! linear momentum and records the kinetic-energy change. Spring and bending arrays and `dt` are
-//! rebuilt by the simulation before the next step.
+//! rebuilt by the simulation before the next step. A strategy may apply its edits under the
+//! energy law instead ([`EditTarget::apply_conserving`], module `energy`: new vertices relaxed,
+//! no edit raises the total energy); `remesh` does.
 
 pub mod criteria;
+mod energy;
+#[cfg(test)]
+mod energy_tests;
 mod params;
+mod relax;
 pub mod sizing;
 mod target;
 mod transfer;
 
 pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
+pub use energy::{apply_edit_conserving, energy_trial, ConservingError, EnergyTrial};
 pub use params::{AdaptParams, Criteria};
+pub use relax::relax;
 pub use target::{ClothTarget, EditTarget};
 pub use transfer::{
     apply_edit, apply_edit_with, restore_kinetic_energy, Transfer, TransferOptions,

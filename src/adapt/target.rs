@@ -2,6 +2,7 @@
 //! property tests) or the cloth through the state-transfer service (the physics path). One
 //! interface, so every strategy's operations are written once and tested both ways.
 
+use super::energy::{apply_edit_conserving, ConservingError};
 use super::transfer::{apply_edit_with, TransferOptions};
 use super::AdaptReport;
 use crate::cloth::Cloth;
@@ -13,6 +14,12 @@ pub trait EditTarget {
     fn mesh(&self) -> &Mesh;
     /// Applies one checked edit (the mesh is unchanged on error).
     fn apply(&mut self, edit: &Edit) -> Result<EditRecord, EditError>;
+
+    /// Applies one checked edit under the energy law of [`apply_edit_conserving`] (unchanged on
+    /// error). A bare mesh has no energy: it applies the edit as [`EditTarget::apply`] does.
+    fn apply_conserving(&mut self, edit: &Edit) -> Result<EditRecord, ConservingError> {
+        Ok(self.apply(edit)?)
+    }
 }
 
 impl EditTarget for Mesh {
@@ -55,6 +62,12 @@ impl EditTarget for ClothTarget<'_, '_> {
 
     fn apply(&mut self, edit: &Edit) -> Result<EditRecord, EditError> {
         let t = apply_edit_with(self.cloth, edit, &self.options)?;
+        self.report.add(&t);
+        Ok(t.record)
+    }
+
+    fn apply_conserving(&mut self, edit: &Edit) -> Result<EditRecord, ConservingError> {
+        let t = apply_edit_conserving(self.cloth, edit, &self.options)?;
         self.report.add(&t);
         Ok(t.record)
     }

@@ -160,6 +160,11 @@ impl Mesh {
         })
     }
 
+    /// Checks `edit` as [`Mesh::replace`] would, without applying it.
+    pub fn check_edit(&self, edit: &Edit) -> Result<(), EditError> {
+        self.validate_edit(edit).map(|_| ())
+    }
+
     /// Validates `edit` without changing anything; returns the vertices it would remove (in id
     /// order).
     fn validate_edit(&self, edit: &Edit) -> Result<Vec<VertexId>, EditError> {

@@ -17,6 +17,7 @@ mod generate;
 mod grid;
 mod locate;
 mod obj;
+mod patch;
 mod point_tree;
 
 pub use check::{ConformityError, Rule};
@@ -24,6 +25,7 @@ pub use edit::{Edit, EditError, EditRecord, NewVertex, Origin, VertexRef};
 pub use generate::{disk, union_jack};
 pub use locate::{Barycentric, RestLocator, SNAP_REL_TOL};
 pub use obj::{load_obj, ObjCloth, ObjError};
+pub use patch::Patch;
 
 use crate::math::{signed_area, Real, Vec2};
 use std::collections::{BTreeMap, BTreeSet};

@@ -11,9 +11,14 @@
 //!
 //! The elementary operation is exposed for property tests: [`remesh_region`] applies it to an
 //! [`EditTarget`], the bare mesh (topology alone) or the cloth through the same state-transfer
-//! service every strategy uses ([`crate::adapt::ClothTarget`]). It leaves the mesh (and the cloth)
-//! untouched on error.
+//! service every strategy uses ([`crate::adapt::ClothTarget`]), under the energy law of
+//! [`crate::adapt::apply_edit_conserving`]: new vertices relaxed, and a re-meshing that would
+//! raise the total energy refused unless the region's relative motion pays for it
+//! (docs/model-notes.md, "Energy of a re-meshing"). It leaves the mesh (and the cloth) untouched on
+//! error.
 
+#[cfg(test)]
+mod energy_tests;
 mod hole;
 mod plan;
 mod region;
@@ -25,8 +30,7 @@ pub use plan::{plan_region, Plan};
 pub use region::{components, region_faces};
 pub use strategy::Remesh;
 
-use crate::adapt::AdaptParams;
-use crate::adapt::EditTarget;
+use crate::adapt::{AdaptParams, ConservingError, EditTarget};
 use crate::math::Real;
 use crate::mesh::{EdgeKey, EditError, EditRecord, FaceId};
 
@@ -161,14 +165,36 @@ pub enum RemeshError {
     /// The mesh refused the edit.
     #[error("edit refused: {0}")]
     Edit(#[from] EditError),
+    /// The re-meshing would add energy its region's relative motion cannot pay (the energy law,
+    /// [`crate::adapt::apply_edit_conserving`]).
+    #[error("the re-meshing would add {gain:.3e} J (payable {payable:.3e} J)")]
+    AddsEnergy {
+        /// Total energy gained (J).
+        gain: Real,
+        /// Relative kinetic energy of the touched vertices (J).
+        payable: Real,
+    },
+}
+
+impl From<ConservingError> for RemeshError {
+    fn from(e: ConservingError) -> Self {
+        match e {
+            ConservingError::Edit(e) => RemeshError::Edit(e),
+            ConservingError::AddsEnergy { gain, payable } => {
+                RemeshError::AddsEnergy { gain, payable }
+            }
+        }
+    }
 }
 
 /// Re-meshes the region of `edges` in `mode` through an [`EditTarget`]: the bare mesh (property
 /// tests of the topology) or the cloth through the state-transfer service
 /// ([`crate::adapt::ClothTarget`]: new vertices interpolated barycentrically, pushed out of the
-/// obstacles, masses recomputed, momentum and energy restored as its options say). The target is
-/// untouched on error. On a cloth, call [`crate::cloth::Cloth::refresh`] before the next force
-/// evaluation.
+/// obstacles, masses recomputed, momentum and energy restored as its options say) under the
+/// energy law: a re-meshing that would raise the cloth's total energy is applied only when the
+/// region's relative motion pays the gain, and refused otherwise
+/// ([`crate::adapt::apply_edit_conserving`]). The target is untouched on error. On a cloth, call
+/// [`crate::cloth::Cloth::refresh`] before the next force evaluation.
 pub fn remesh_region<T: EditTarget + ?Sized>(
     target: &mut T,
     edges: &[EdgeKey],
@@ -177,6 +203,6 @@ pub fn remesh_region<T: EditTarget + ?Sized>(
 ) -> Result<(EditRecord, RemeshStats), RemeshError> {
     let faces = region_faces(target.mesh(), edges)?;
     let plan = plan_region(target.mesh(), &faces, mode, params)?;
-    let record = target.apply(&plan.edit)?;
+    let record = target.apply_conserving(&plan.edit)?;
     Ok((record, plan.stats))
 }

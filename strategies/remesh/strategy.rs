@@ -1,6 +1,7 @@
 //! The [`Adaptivity`] implementation of local remeshing (MODEL.md §8.2) and its per-edge
 //! bookkeeping: the time each edge was made by a refinement, for the simplification hysteresis
-//! (`t_simplify`) and the 10 % smoothing rule of the shared criteria.
+//! (`t_simplify`) and the 10 % smoothing rule of the shared criteria, and the time the energy law
+//! last refused a region holding it (such edges wait `t_simplify` before being tried again).
 
 use super::{components, region_faces, remesh_region, Mode, RemeshError, RemeshParams};
 use crate::adapt::criteria::{select, EdgeInfo};
@@ -21,6 +22,8 @@ pub struct RemeshCounters {
     pub refused: usize,
     /// Of the refusals, the ones answered from memory (the same region refused before).
     pub remembered: usize,
+    /// Of the refusals, the regions whose re-meshing would have added energy (the energy law).
+    pub energy_refused: usize,
     /// Why the last region was refused.
     pub last_refusal: String,
     /// New triangles below the mesher's angle limit, all regions.
@@ -45,6 +48,9 @@ pub struct Remesh {
     refused_plans: BTreeMap<RegionKey, String>,
     /// The parameters `refused_plans` holds for.
     refused_under: Option<RemeshParams>,
+    /// Simulated time (s) at which the energy law last refused a region selected by each edge
+    /// (the cloth's motion changes that answer, so such edges only wait `t_simplify`).
+    refused_at: BTreeMap<(VertexKey, VertexKey), Real>,
     /// What the strategy did so far.
     pub counters: RemeshCounters,
 }
@@ -86,13 +92,21 @@ impl Remesh {
     }
 
     /// Forgets entries whose vertices are gone or whose age reached `t_simplify` (both thresholds
-    /// of the criteria are at most `t_simplify`, so such an edge counts as old either way).
+    /// of the criteria are at most `t_simplify`, so such an edge counts as old either way; a
+    /// refused edge may be tried again).
     pub(super) fn prune(&mut self, mesh: &Mesh, now: Real, t_simplify: Real) {
-        self.refined_at.retain(|(a, b), t| {
+        let live = |(a, b): &(VertexKey, VertexKey), t: &mut Real| {
             mesh.resolve(*a).is_some() && mesh.resolve(*b).is_some() && now - *t < t_simplify
-        });
+        };
+        self.refined_at.retain(live);
+        self.refused_at.retain(live);
         self.refused_plans
             .retain(|(_, faces), _| faces.iter().flatten().all(|&k| mesh.resolve(k).is_some()));
+    }
+
+    /// True when the energy law refused a region of `edge` less than `t_simplify` ago (pruned).
+    fn waiting(&self, mesh: &Mesh, edge: EdgeKey) -> bool {
+        self.refused_at.contains_key(&edge_keys(mesh, edge))
     }
 
     /// The key of the region `edges` select, `None` when an edge is gone.
@@ -154,6 +168,13 @@ impl Remesh {
             }
             Err(e) => {
                 self.counters.refused += 1;
+                if matches!(e, RemeshError::AddsEnergy { .. }) {
+                    self.counters.energy_refused += 1;
+                    let mesh = &target.cloth.mesh;
+                    for &e in edges {
+                        self.refused_at.insert(edge_keys(mesh, e), now);
+                    }
+                }
                 self.counters.last_refusal = e.to_string();
                 if let (Some(k), RemeshError::NoAcceptableMesh(_)) = (key, &e) {
                     self.refused_plans.insert(k, e.to_string());
@@ -184,7 +205,12 @@ impl Adaptivity for Remesh {
         let params = RemeshParams::from_adapt(spec);
         let mut target = ctx.edit_target(cloth);
         let mut fresh = BTreeSet::new();
-        let refine: Vec<EdgeKey> = selection.refine.iter().map(|(e, _)| *e).collect();
+        let refine: Vec<EdgeKey> = selection
+            .refine
+            .iter()
+            .map(|(e, _)| *e)
+            .filter(|&e| !self.waiting(&target.cloth.mesh, e))
+            .collect();
         for group in components(&target.cloth.mesh, &refine) {
             if ctx.interrupted() {
                 return Ok(target.report);
@@ -203,6 +229,7 @@ impl Adaptivity for Remesh {
                     .mesh
                     .edge(e.0, e.1)
                     .is_some_and(|ef| ef.iter().all(|f| !fresh.contains(&f)))
+                    && !self.waiting(&target.cloth.mesh, *e)
             })
             .collect();
         for group in components(&target.cloth.mesh, &simplify) {

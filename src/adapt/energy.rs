@@ -1,0 +1,253 @@
+//! The energy law of an edit: an edit may not raise the cloth's total energy (kinetic, gravity,
+//! stretch, bending). Used by `remesh` (issue 15, item 7; docs/model-notes.md, "Energy of a
+//! re-meshing").
+//!
+//! A re-meshed region can hold more energy than the region it replaces at the same positions: new
+//! vertices interpolated on flat old triangles stretch the new springs around them, and a
+//! triangle whose compressed spring is slack (tension-only springs) shears freely, so a new spring
+//! across it measures a stretch no old spring did. [`energy_trial`] tries an edit on a [`Patch`]
+//! (the faces around it, cost proportional to the region) and relaxes the new vertices there
+//! ([`relax`]); [`apply_edit_conserving`] applies it, new vertices at their relaxed positions,
+//! only when it adds no energy, or when the touched vertices' relative kinetic energy can pay the
+//! gain (a momentum-neutral scaling, [`restore_kinetic_energy`]).
+
+use super::relax::relax;
+use super::transfer::{apply_edit_with, restore_kinetic_energy, Transfer, TransferOptions};
+use crate::cloth::Cloth;
+use crate::math::{Real, Vec3};
+use crate::mesh::{Edit, EditError, EditRecord, Mesh, Origin, Patch, VertexId, VertexRef};
+use std::collections::BTreeSet;
+
+/// Rounding allowance of the law, relative to the patch's energy magnitude (dimensionless).
+const ROUNDING: Real = 1e-12;
+
+/// Allowance of the law as a height (m): a gain up to the patch's weight times this counts as
+/// none (a whole run of edits stays far below the stability suite's `1e-3 M |g| x 1 m`).
+const ALLOWANCE_HEIGHT: Real = 1e-9;
+
+/// A gain is payable only up to this fraction of the relative kinetic energy, so rounding
+/// differences between the patch and the cloth cannot make the payment fail (dimensionless).
+const PAYABLE_FRACTION: Real = 1.0 - 1e-9;
+
+/// What an edit would do to the cloth's total energy.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EnergyTrial {
+    /// Total energy after the edit minus before (J), new vertices relaxed and not pushed out of
+    /// obstacles.
+    pub gain: Real,
+    /// Kinetic energy of the touched vertices' motion relative to their mean velocity after the
+    /// edit (J): the most a momentum-neutral correction can take back.
+    pub payable: Real,
+    /// Allowance (J): a gain up to it counts as none (the patch's weight times 1 nm, plus
+    /// rounding).
+    pub tolerance: Real,
+    /// World positions of the new vertices after relaxation (m), in the edit's order.
+    pub positions: Vec<Vec3>,
+}
+
+impl EnergyTrial {
+    /// True when the law lets the edit through: no gain, or a payable one.
+    pub fn allowed(&self) -> bool {
+        self.gain <= self.tolerance || self.gain <= PAYABLE_FRACTION * self.payable
+    }
+
+    /// The energy to take from the touched vertices' relative motion (J), 0 when there is none.
+    pub fn payment(&self) -> Real {
+        if self.gain <= self.tolerance {
+            0.0
+        } else {
+            self.gain
+        }
+    }
+}
+
+/// Why [`apply_edit_conserving`] did not apply an edit; the cloth is unchanged.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ConservingError {
+    /// The mesh refused the edit.
+    #[error("edit refused: {0}")]
+    Edit(#[from] EditError),
+    /// The edit would add energy its region's relative motion cannot pay.
+    #[error(
+        "the edit would add {gain:.3e} J (its region's relative motion holds {payable:.3e} J)"
+    )]
+    AddsEnergy {
+        /// Total energy gained (J).
+        gain: Real,
+        /// Relative kinetic energy of the touched vertices after the edit (J).
+        payable: Real,
+    },
+}
+
+/// Measures `edit` on a patch of `cloth`: the faces having a vertex that the edit touches or
+/// interpolates from (so every changed mass, spring and bending element is in it), transferred
+/// with `options` but without pushing new vertices out of obstacles (that is the collision
+/// response, not the edit), then the new vertices relaxed ([`relax`]). The cloth is not changed.
+pub fn energy_trial(
+    cloth: &Cloth,
+    edit: &Edit,
+    options: &TransferOptions,
+) -> Result<EnergyTrial, EditError> {
+    let mesh = &cloth.mesh;
+    mesh.check_edit(edit)?;
+    let mut core: BTreeSet<VertexId> = edit.remove.iter().flat_map(|&f| mesh.face(f)).collect();
+    for n in &edit.new_vertices {
+        core.extend(origin_vertices(n.origin));
+    }
+    let patch = mesh.patch(&core);
+    let local_edit = localise(&patch, edit);
+    let model = &cloth.model;
+    let x = patch
+        .vertices
+        .iter()
+        .map(|v| cloth.x[v.0 as usize])
+        .collect();
+    let mut sub = Cloth::new(
+        patch.mesh.clone(),
+        x,
+        Vec3::zeros(),
+        model.material(),
+        model.switches(),
+    );
+    for (local, v) in patch.vertices.iter().enumerate() {
+        sub.v[local] = cloth.v[v.0 as usize];
+    }
+    let before = sub.model.energies(&sub.x, &sub.v);
+    let local_options = TransferOptions {
+        obstacles: None,
+        ..*options
+    };
+    let transfer = apply_edit_with(&mut sub, &local_edit, &local_options)?;
+    sub.refresh();
+    let new: Vec<VertexId> = transfer
+        .record
+        .added_vertices
+        .iter()
+        .map(|(v, _)| *v)
+        .collect();
+    relax(&mut sub, &new);
+    let after = sub.model.energies(&sub.x, &sub.v);
+    let touched = touched(&sub.mesh, &transfer.record);
+    let magnitude = before.kinetic.abs() + before.gravity.abs() + before.stretch + before.bending;
+    let switches = sub.model.switches();
+    let g = if switches.gravity {
+        switches.g.norm()
+    } else {
+        0.0
+    };
+    let weight = sub.model.total_mass() * g;
+    Ok(EnergyTrial {
+        gain: after.total() - before.total(),
+        payable: relative_kinetic_energy(&sub, &touched),
+        tolerance: ALLOWANCE_HEIGHT * weight + ROUNDING * magnitude,
+        positions: new.iter().map(|v| sub.x[v.0 as usize]).collect(),
+    })
+}
+
+/// Applies `edit` under the energy law: tried first ([`energy_trial`]); applied as
+/// [`apply_edit_with`] does, but with the new vertices at their relaxed positions (pushed out of
+/// the obstacles), when it adds no energy; applied with the gain taken from the touched vertices'
+/// relative motion ([`restore_kinetic_energy`], linear momentum unchanged) when that motion holds
+/// enough; refused otherwise, leaving the cloth unchanged.
+pub fn apply_edit_conserving(
+    cloth: &mut Cloth,
+    edit: &Edit,
+    options: &TransferOptions,
+) -> Result<Transfer, ConservingError> {
+    let trial = energy_trial(cloth, edit, options)?;
+    if !trial.allowed() {
+        return Err(ConservingError::AddsEnergy {
+            gain: trial.gain,
+            payable: trial.payable,
+        });
+    }
+    let mut transfer = apply_edit_with(cloth, edit, options)?;
+    for ((v, _), &x) in transfer.record.added_vertices.iter().zip(&trial.positions) {
+        cloth.x[v.0 as usize] = options.obstacles.map_or(x, |o| o.push_out(x));
+    }
+    let payment = trial.payment();
+    if payment > 0.0 {
+        let touched = touched(&cloth.mesh, &transfer.record);
+        let kinetic = kinetic_energy(cloth, &touched);
+        if restore_kinetic_energy(cloth, &touched, kinetic - payment) {
+            transfer.kinetic_energy_change -= payment;
+        }
+    }
+    Ok(transfer)
+}
+
+/// The vertices an edit's transfer recomputed: those of its removed faces still live, and the new
+/// ones.
+fn touched(mesh: &Mesh, record: &EditRecord) -> Vec<VertexId> {
+    let mut out: Vec<VertexId> = record
+        .removed_faces
+        .iter()
+        .flat_map(|(_, vs)| vs.iter().copied())
+        .chain(record.added_vertices.iter().map(|(v, _)| *v))
+        .filter(|&v| mesh.is_vertex(v))
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
+fn kinetic_energy(cloth: &Cloth, vertices: &[VertexId]) -> Real {
+    let m = cloth.model.mass();
+    vertices
+        .iter()
+        .map(|v| 0.5 * m[v.0 as usize] * cloth.v[v.0 as usize].norm_squared())
+        .sum()
+}
+
+/// Kinetic energy (J) of the movable `vertices`' motion relative to their mass-weighted mean
+/// velocity: what [`restore_kinetic_energy`] can take away without changing their momentum.
+fn relative_kinetic_energy(cloth: &Cloth, vertices: &[VertexId]) -> Real {
+    let (m, inv) = (cloth.model.mass(), cloth.model.inv_mass());
+    let movable: Vec<usize> = vertices
+        .iter()
+        .map(|v| v.0 as usize)
+        .filter(|&i| inv[i] > 0.0)
+        .collect();
+    let total: Real = movable.iter().map(|&i| m[i]).sum();
+    if total <= 0.0 {
+        return 0.0;
+    }
+    let mean: Vec3 = movable.iter().map(|&i| cloth.v[i] * m[i]).sum::<Vec3>() / total;
+    movable
+        .iter()
+        .map(|&i| 0.5 * m[i] * (cloth.v[i] - mean).norm_squared())
+        .sum()
+}
+
+fn origin_vertices(origin: Origin) -> Vec<VertexId> {
+    match origin {
+        Origin::Midpoint(a, b) => vec![a, b],
+        Origin::InTriangle { corners, .. } => corners.to_vec(),
+    }
+}
+
+/// `edit` in the patch's local ids (a checked edit names only faces and vertices of the patch).
+fn localise(patch: &Patch, edit: &Edit) -> Edit {
+    let v = |id: VertexId| patch.vertex_map[&id];
+    let mut local = edit.clone();
+    for f in &mut local.remove {
+        *f = patch.face_map[f];
+    }
+    for n in &mut local.new_vertices {
+        n.origin = match n.origin {
+            Origin::Midpoint(a, b) => Origin::Midpoint(v(a), v(b)),
+            Origin::InTriangle { corners, weights } => Origin::InTriangle {
+                corners: corners.map(v),
+                weights,
+            },
+        };
+    }
+    for face in &mut local.add {
+        for r in face.iter_mut() {
+            if let VertexRef::Old(id) = *r {
+                *r = VertexRef::Old(v(id));
+            }
+        }
+    }
+    local
+}
