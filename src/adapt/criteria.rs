@@ -9,7 +9,7 @@
 
 use super::{AdaptParams, Criteria};
 use crate::cloth::Cloth;
-use crate::collision::Obstacles;
+use crate::collision::{Obstacles, TOUCH_MARGINS};
 use crate::math::{Real, Vec3};
 use crate::mesh::{EdgeKey, Mesh};
 
@@ -146,6 +146,7 @@ pub fn select_source(
 ) -> Selection {
     let mesh = &cloth.mesh;
     let normals = vertex_normals(cloth);
+    let curved = faces_in_curved_contact(cloth, obstacles, spec);
     let mut refine = Vec::new();
     let mut simplify = Vec::new();
     for (e, faces) in mesh.edges() {
@@ -160,6 +161,12 @@ pub fn select_source(
             continue;
         }
         // 2. Collision, unless the contact is flat.
+        if faces.iter().any(|f| curved[f.0 as usize]) {
+            if can_refine {
+                refine.push((e, RefineReason::Collision));
+            }
+            continue;
+        }
         if let Some(hit) = obstacles.edge_hit(xa, xb) {
             let mean: Vec3 = faces.iter().map(|f| face_normal(cloth, f)).sum();
             // With face contact an edge rests on a curved obstacle as a tangent (it never crosses
@@ -196,6 +203,33 @@ pub fn select_source(
     }
     smooth(mesh, spec, info, &mut refine, &mut simplify);
     Selection { refine, simplify }
+}
+
+/// Per face slot, with face contact on: whether an obstacle comes within
+/// [`TOUCH_MARGINS`] margins of the face where it is not flat under the face (its normal at the
+/// contact differs from the face's, or from its normals at the face's vertices, by more than
+/// `flat_contact_cos`). An obstacle tip under a large face (a bunny's ear) touches no edge; the
+/// face's edges are then refined for collision. All false in vertex mode.
+fn faces_in_curved_contact(cloth: &Cloth, obstacles: &Obstacles, spec: &AdaptParams) -> Vec<bool> {
+    let mesh = &cloth.mesh;
+    let mut curved = vec![false; mesh.face_slots()];
+    if !obstacles.face_contact() || obstacles.is_empty() {
+        return curved;
+    }
+    let band = TOUCH_MARGINS * obstacles.margin();
+    for f in mesh.faces() {
+        let tri = mesh.face(f).map(|v| cloth.x[v.0 as usize]);
+        let Some(hit) = obstacles.face_touch(tri, band) else {
+            continue;
+        };
+        let agrees = |n: Vec3| n.dot(&hit.normal).abs() >= spec.flat_contact_cos;
+        let flat = agrees(face_normal(cloth, f))
+            && tri.iter().all(|&p| {
+                obstacles.normal_of(hit.obstacle, p).dot(&hit.normal) >= spec.flat_contact_cos
+            });
+        curved[f.0 as usize] = !flat;
+    }
+    curved
 }
 
 /// True when an edge of the given age may be simplified under the hysteresis `t_simplify`.
@@ -263,7 +297,7 @@ pub(super) fn smooth(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::collision::{Obstacle, ObstacleShape};
+    use crate::collision::{ContactParams, Obstacle, ObstacleShape};
     use crate::mesh::VertexId;
     use crate::testing;
 
@@ -354,6 +388,55 @@ mod tests {
         let ground = Obstacle::new(ObstacleShape::Ground { height: 0.0 });
         let obstacles = testing::obstacles(&[ground]);
         let cloth = flat_cloth(5, -1e-4);
+        let sel = select(&cloth, &obstacles, &spec(), &NoHistory);
+        assert!(sel.refine.is_empty(), "{sel:?}");
+    }
+
+    #[test]
+    fn a_face_over_an_obstacle_tip_is_refined_in_face_mode_only() {
+        // A small sphere under the middle of a face of a 2x2 cloth (1 m square), its top 2 mm
+        // below the cloth: 0.12 m and more from every edge, so no edge comes near it; only the
+        // face does, and the sphere is curved under it.
+        let tip = || {
+            Obstacle::new(ObstacleShape::Sphere {
+                center: [0.75, 0.5, -0.052],
+                radius: 0.05,
+            })
+        };
+        let cloth = flat_cloth(2, 0.0);
+        let face_mode = ContactParams {
+            faces: true,
+            ..ContactParams::default()
+        };
+        let obstacles = Obstacles::build(&[tip()], &face_mode).unwrap();
+        let sel = select(&cloth, &obstacles, &spec(), &NoHistory);
+        let touched = cloth
+            .mesh
+            .faces()
+            .find(|&f| {
+                let c: Vec3 = cloth
+                    .mesh
+                    .face(f)
+                    .map(|v| cloth.x[v.0 as usize])
+                    .iter()
+                    .sum();
+                (c / 3.0 - Vec3::new(0.75, 0.5, 0.0)).norm() < 0.3
+            })
+            .unwrap();
+        let vs = cloth.mesh.face(touched);
+        for k in 0..3 {
+            let e = EdgeKey::new(vs[k], vs[(k + 1) % 3]);
+            assert_eq!(reason(&sel, e), Some(RefineReason::Collision), "{sel:?}");
+        }
+        // Vertex mode: the source's edge criterion sees nothing.
+        let sel = select(&cloth, &testing::obstacles(&[tip()]), &spec(), &NoHistory);
+        assert!(sel.refine.is_empty(), "{sel:?}");
+        // Face mode over a plane-like obstacle (a wide box top under the whole cloth): flat.
+        let slab = Obstacle::new(ObstacleShape::Box {
+            center: [0.5, 0.5, -1.002],
+            half_extents: [2.0, 2.0, 1.0],
+        });
+        let obstacles = Obstacles::build(&[slab], &face_mode).unwrap();
         let sel = select(&cloth, &obstacles, &spec(), &NoHistory);
         assert!(sel.refine.is_empty(), "{sel:?}");
     }

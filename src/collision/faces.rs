@@ -297,6 +297,33 @@ impl Obstacles {
         best.map(|(_, hit)| hit)
     }
 
+    /// Face query for the adaptivity criteria: the obstacle (ground excluded: a plane meets a face
+    /// first at a vertex) closest to the triangle `tri` (world, m) among those nearer than `band`
+    /// (m): the triangle's point of contact and the obstacle's outward unit normal there; `None`
+    /// when none is that near.
+    pub fn face_touch(&self, tri: [Vec3; 3], band: Real) -> Option<super::EdgeHit> {
+        let tri = tri.map(to_glam);
+        let (lo, hi) = bounds(tri);
+        let mut best: Option<(Real, super::EdgeHit)> = None;
+        for (k, ob) in self.obstacles.iter().enumerate() {
+            if matches!(ob.geometry(), Geometry::Ground(_)) || !ob.overlaps(lo, hi, band) {
+                continue;
+            }
+            let Some(c) = ob.triangle_contact(tri, band) else {
+                continue;
+            };
+            if best.as_ref().is_none_or(|(d, _)| c.distance < *d) {
+                let hit = super::EdgeHit {
+                    obstacle: k,
+                    point: to_na(c.point),
+                    normal: to_na(c.normal),
+                };
+                best = Some((c.distance, hit));
+            }
+        }
+        best.map(|(_, hit)| hit)
+    }
+
     /// Face pass after [`Obstacles::respond`] (when the obstacles were built with
     /// `ContactParams::faces`; otherwise nothing): for each face of `faces` (vertex indices into
     /// `x`, world positions in m) with a movable vertex, and each obstacle but the ground (a

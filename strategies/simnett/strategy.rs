@@ -185,8 +185,14 @@ fn merge_candidates(
 
 /// Moves the new vertex of a collision split onto the obstacle surface, at the collision margin
 /// along the outward normal, when the closest surface is within half the edge's world `length`
-/// (m). Positions only: the velocity (and so the momentum) is the transferred one.
+/// (m). Positions only: the velocity (and so the momentum) is the transferred one. Vertex contact
+/// only: with face contact the split edge lies outside, at least the margin off the obstacle, and
+/// snapping its midpoint to the closest surface (the far side of a bunny's ear under a large
+/// face) would fold the new faces around the obstacle.
 fn project_onto_surface(cloth: &mut Cloth, obstacles: &Obstacles, v: VertexId, length: Real) {
+    if obstacles.face_contact() {
+        return;
+    }
     let i = v.0 as usize;
     if let Some(sp) = obstacles.closest_surface(cloth.x[i]) {
         if sp.distance.abs() <= 0.5 * length {
