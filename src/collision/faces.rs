@@ -104,6 +104,15 @@ impl Solid {
                 return true;
             }
         }
+        if let Geometry::Cylinder(s) = self.geometry() {
+            // The solid lies inside its infinite cylinder: the triangle is at least its distance
+            // from the axis, across the plane of the caps, minus the radius away.
+            let across = tri.map(|p| {
+                let local = self.pose().inverse_transform_point(p);
+                [local.x, local.z]
+            });
+            return distance_to_origin_2d(across).0 - s.radius >= band;
+        }
         if matches!(self.geometry(), Geometry::Mesh(_)) {
             let (a, b, c) = (
                 (tri[1] - tri[0]).length(),
@@ -152,7 +161,12 @@ impl Solid {
                     distance: length - ball.radius,
                 }
             }
-            Geometry::Cylinder(s) => convex_contact(self.pose(), s, tri, band)?,
+            Geometry::Cylinder(s) => {
+                match cylinder_side_contact(self.pose(), s.radius, s.half_height, tri) {
+                    Some(side) => side,
+                    None => convex_contact(self.pose(), s, tri, band)?,
+                }
+            }
             Geometry::Cuboid(s) => convex_contact(self.pose(), s, tri, band)?,
             Geometry::Mesh(m) => mesh_contact(self, m, tri, band)?,
         };
@@ -238,6 +252,63 @@ fn bounds(tri: [Vector; 3]) -> (Vector, Vector) {
         tri[0].min(tri[1]).min(tri[2]),
         tri[0].max(tri[1]).max(tri[2]),
     )
+}
+
+/// Distance (m) from the origin to the plane triangle `tri`, 0 when it holds the origin (a
+/// degenerate triangle is its edges); outside, also the closest point as `(k, t)`: at parameter
+/// `t` along the edge from vertex `k` to vertex `k + 1`.
+fn distance_to_origin_2d(tri: [[Real; 2]; 3]) -> (Real, Option<(usize, Real)>) {
+    let cross = |a: [Real; 2], b: [Real; 2]| a[0] * b[1] - a[1] * b[0];
+    let side = |k: usize| cross(tri[k], tri[(k + 1) % 3]);
+    let sides = [side(0), side(1), side(2)];
+    if sides.iter().all(|&c| c > 0.0) || sides.iter().all(|&c| c < 0.0) {
+        return (0.0, None);
+    }
+    let mut best = (Real::INFINITY, None);
+    for k in 0..3 {
+        let (a, b) = (tri[k], tri[(k + 1) % 3]);
+        let ab = [b[0] - a[0], b[1] - a[1]];
+        let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+        let t = if len2 > 0.0 {
+            (-(a[0] * ab[0] + a[1] * ab[1]) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let d = (a[0] + t * ab[0]).hypot(a[1] + t * ab[1]);
+        if d < best.0 {
+            best = (d, Some((k, t)));
+        }
+    }
+    best
+}
+
+/// The contact of a triangle (local frame of the cylinder, axis y) with the cylinder's side in
+/// closed form, when it is surely the side's: every vertex between the caps' planes and the
+/// triangle outside the infinite cylinder. Then its closest point to the axis (on an edge) is the
+/// contact and the normal is radial. `None` otherwise (left to GJK).
+fn cylinder_side_contact(
+    pose: &Pose,
+    radius: Real,
+    half_height: Real,
+    tri: [Vector; 3],
+) -> Option<TriangleContact> {
+    let local = tri.map(|p| pose.inverse_transform_point(p));
+    if local.iter().any(|p| p.y.abs() > half_height) {
+        return None;
+    }
+    let (d, Some((k, t))) = distance_to_origin_2d(local.map(|p| [p.x, p.z])) else {
+        return None;
+    };
+    if d < radius || d <= DEGENERATE_LENGTH {
+        return None;
+    }
+    let q = local[k] + (local[(k + 1) % 3] - local[k]) * t;
+    let radial = Vector::new(q.x, 0.0, q.z) / d;
+    Some(TriangleContact {
+        point: tri[k] + (tri[(k + 1) % 3] - tri[k]) * t,
+        normal: pose.rotation * radial,
+        distance: d - radius,
+    })
 }
 
 /// Barycentric weights of `p` (on the triangle, m) in `tri`, clamped to the triangle.
@@ -499,6 +570,81 @@ mod tests {
     /// middle crosses the vertical edge x = y = 1 (the corner region x + y >= 1.7 is inside).
     fn over_the_corner(z: Real) -> [Vec3; 3] {
         [v(0.2, 1.5, z), v(1.5, 0.2, z), v(1.5, 1.5, z)]
+    }
+
+    #[test]
+    fn the_distance_from_the_origin_to_a_plane_triangle() {
+        let d = |tri| distance_to_origin_2d(tri).0;
+        assert_eq!(d([[-1.0, -1.0], [1.0, -1.0], [0.0, 1.0]]), 0.0);
+        assert!((d([[2.0, -1.0], [2.0, 1.0], [3.0, 0.0]]) - 2.0).abs() < 1e-12);
+        assert!((d([[1.0, 1.0], [2.0, 1.0], [1.0, 2.0]]) - 2.0_f64.sqrt()).abs() < 1e-12);
+        // Degenerate: a segment (the plane image of a vertical face).
+        assert!((d([[1.0, -1.0], [1.0, 1.0], [1.0, 1.0]]) - 1.0).abs() < 1e-12);
+    }
+
+    /// The cylinder's culls never hide a contact parry's GJK finds, and its side contacts in
+    /// closed form are GJK's: over triangles scattered around the table's side, rim and cap (some
+    /// crossing the axis), every triangle called clear has no contact nearer than the band but at
+    /// a vertex, and every closed-form contact has GJK's distance and normal.
+    #[test]
+    fn the_cylinder_cull_hides_no_contact() {
+        let obs = obstacles(ObstacleShape::Cylinder {
+            center: [0.0, 0.0, 0.25],
+            radius: 0.3,
+            height: 0.5,
+        });
+        let solid = &obs.obstacles[0];
+        let Geometry::Cylinder(shape) = solid.geometry() else {
+            unreachable!()
+        };
+        let mut seed = 12345_u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as Real / (1u64 << 53) as Real
+        };
+        let (mut culled, mut kept, mut closed_form) = (0, 0, 0);
+        for _ in 0..4000 {
+            let centre = Vector::new(0.7 * next() - 0.35, 0.7 * next() - 0.35, 0.7 * next());
+            let size = 0.01 + 0.2 * next();
+            let tri = [0, 1, 2]
+                .map(|_| centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size);
+            let band = 0.004;
+            if let Some(side) = cylinder_side_contact(solid.pose(), 0.3, 0.25, tri) {
+                closed_form += 1;
+                let gjk = convex_contact(solid.pose(), shape, tri, 1.0).unwrap();
+                assert!(
+                    (side.distance - gjk.distance).abs() < 1e-7,
+                    "{side:?} {gjk:?}"
+                );
+                assert!(side.normal.dot(gjk.normal) > 1.0 - 1e-6, "{side:?} {gjk:?}");
+                // Its point is on the triangle, as far from the axis as the distance says.
+                let axis_offset = side.point.x.hypot(side.point.y);
+                assert!((axis_offset - 0.3 - side.distance).abs() < 1e-9, "{side:?}");
+                let w = barycentric(side.point, tri);
+                let back: Vector = (0..3).map(|k| tri[k] * w[k]).sum();
+                assert!((back - side.point).length() < 1e-9, "{side:?}");
+            }
+            if solid.triangle_clear(tri, band) {
+                culled += 1;
+                let c = convex_contact(solid.pose(), shape, tri, band);
+                // Clear means no contact but at a vertex (the vertex pass's).
+                let at_vertex =
+                    |c: &TriangleContact| tri.iter().any(|&p| (p - c.point).length() < 1e-9);
+                assert!(
+                    c.is_none_or(|c| c.distance >= band - 1e-9 || at_vertex(&c)),
+                    "{tri:?}: {c:?}"
+                );
+            } else {
+                kept += 1;
+            }
+        }
+        assert!(culled > 500 && kept > 500, "{culled} culled, {kept} kept");
+        assert!(
+            closed_form > 200,
+            "{closed_form} side contacts in closed form"
+        );
     }
 
     /// A wide face through a frictionless sphere, its centroid over the centre: the pass lifts
