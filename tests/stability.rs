@@ -6,12 +6,7 @@ use adaptcloth::study::stability::{self, CaseSizes, Search};
 /// Hard cases still failing, each with its cause and the issue that covers it: `(case, strategy,
 /// integrator, why)`. Every other case must pass for every built strategy, and a listed case
 /// that starts passing fails this test until it is removed from the list.
-const KNOWN_FAILURES: [(&str, &str, &str, &str); 1] = [(
-    "high-speed impact on the sphere",
-    "remesh",
-    "implicit_euler",
-    "only vertices collide: coarse faces pass through the sphere (issue 12)",
-)];
+const KNOWN_FAILURES: [(&str, &str, &str, &str); 0] = [];
 
 /// The hard cases pass for every built strategy, but for the [`KNOWN_FAILURES`].
 #[test]

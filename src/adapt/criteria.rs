@@ -404,10 +404,11 @@ mod tests {
             })
         };
         let cloth = flat_cloth(2, 0.0);
-        let face_mode = ContactParams {
-            faces: true,
+        let mode = |faces| ContactParams {
+            faces,
             ..ContactParams::default()
         };
+        let face_mode = mode(true);
         let obstacles = Obstacles::build(&[tip()], &face_mode).unwrap();
         let sel = select(&cloth, &obstacles, &spec(), &NoHistory);
         let touched = cloth
@@ -429,7 +430,8 @@ mod tests {
             assert_eq!(reason(&sel, e), Some(RefineReason::Collision), "{sel:?}");
         }
         // Vertex mode: the source's edge criterion sees nothing.
-        let sel = select(&cloth, &testing::obstacles(&[tip()]), &spec(), &NoHistory);
+        let vertex_only = Obstacles::build(&[tip()], &mode(false)).unwrap();
+        let sel = select(&cloth, &vertex_only, &spec(), &NoHistory);
         assert!(sel.refine.is_empty(), "{sel:?}");
         // Face mode over a plane-like obstacle (a wide box top under the whole cloth): flat.
         let slab = Obstacle::new(ObstacleShape::Box {

@@ -15,7 +15,7 @@ pub struct ContactParams {
     /// Default 0.5.
     pub restitution: Real,
     /// Whether faces collide too ([`crate::collision::Obstacles::respond_faces`]), not only
-    /// vertices. Default false.
+    /// vertices. Default true.
     pub faces: bool,
 }
 
@@ -24,7 +24,7 @@ impl Default for ContactParams {
         ContactParams {
             margin: 2e-3,
             restitution: 0.5,
-            faces: false,
+            faces: true,
         }
     }
 }

@@ -334,7 +334,7 @@ pub struct CollisionSpec {
     /// Restitution `gamma` in (0, 1) (4.16), unless an obstacle sets its own. Default 0.5.
     #[serde(alias = "gamma")]
     pub restitution: Real,
-    /// What of the cloth meets the obstacles. Default `vertex`.
+    /// What of the cloth meets the obstacles. Default `face`.
     pub mode: CollisionMode,
 }
 
@@ -343,7 +343,7 @@ impl Default for CollisionSpec {
         CollisionSpec {
             margin: 2e-3,
             restitution: 0.5,
-            mode: CollisionMode::Vertex,
+            mode: CollisionMode::Face,
         }
     }
 }
@@ -353,10 +353,10 @@ impl Default for CollisionSpec {
 #[serde(rename_all = "snake_case")]
 pub enum CollisionMode {
     /// Vertices only, as in the source: an obstacle may poke through a face between vertices.
-    #[default]
     Vertex,
-    /// Vertices, then every face: an obstacle within the margin of a face pushes it out by
-    /// impulses spread over the face's vertices.
+    /// Vertices, then every face (the default): an obstacle within the margin of a face pushes
+    /// it out by impulses spread over the face's vertices.
+    #[default]
     Face,
 }
 

@@ -8,7 +8,7 @@
 
 use crate::cloth::Cloth;
 use crate::math::{Real, Vec2, Vec3};
-use crate::mesh::{Mesh, VertexId};
+use crate::mesh::{Mesh, RestLocator, VertexId};
 use crate::physics::INTEGRATORS;
 use crate::scene::{self, LoadedScene, TimeMode};
 use crate::sim::{Simulation, StepError};
@@ -72,6 +72,30 @@ pub struct Outcome {
 }
 
 /// Steps `sim` to its duration, measuring energy after every step (and penetration when
+/// World position (m) of the material point at rest coordinates `rest` (m): interpolated in the
+/// face holding it (the nearest vertex's when no face does).
+pub fn material_point(cloth: &Cloth, rest: Vec2) -> Vec3 {
+    let mesh = &cloth.mesh;
+    match RestLocator::new(mesh).locate(mesh, rest) {
+        Some(b) => {
+            let vs = mesh.face(b.face);
+            (0..3)
+                .map(|k| cloth.x[vs[k].0 as usize] * b.weights[k])
+                .sum()
+        }
+        None => {
+            let nearest = mesh
+                .vertices()
+                .min_by(|a, b| {
+                    let d = |v: VertexId| (mesh.rest(v) - rest).norm();
+                    d(*a).total_cmp(&d(*b))
+                })
+                .expect("a vertex");
+            cloth.x[nearest.0 as usize]
+        }
+    }
+}
+
 /// `penetration` is set).
 pub fn run(mut sim: Simulation, t_settle: Real, penetration: bool) -> (Outcome, Simulation) {
     let clock = Instant::now();
