@@ -161,3 +161,20 @@ fn bin_round_trip() {
         Err(ReferenceError::Malformed { .. })
     ));
 }
+
+/// The keys of the shipped scenes without moving obstacles, as computed before obstacles could
+/// move (`[obstacles.motion]`): a scene that does not use a later key keeps its cached
+/// references.
+#[test]
+fn scenes_without_motion_keep_their_cache_keys() {
+    let settings = ReferenceSettings::default();
+    for (name, key) in [
+        ("sphere", "714460efdab6b607"),
+        ("round_table", "b23fddbbc5acd9c1"),
+        ("hanging", "21326184d2f62768"),
+        ("sphere_peer", "b3ecc8929eb303cf"),
+    ] {
+        let scene = load_embedded(name, &[]).unwrap().unwrap();
+        assert_eq!(cache_key(&scene, &settings), key, "{name}");
+    }
+}
