@@ -1,7 +1,9 @@
 //! Range checks of a parsed scene, reported with the file, the line of the key and what was
 //! expected.
 
-use super::{AdaptivitySpec, ClothShape, CriteriaSpec, ObstacleShape, Scene, SceneError};
+use super::{
+    AdaptivitySpec, ClothShape, CriteriaSpec, MotionSpec, ObstacleShape, Scene, SceneError,
+};
 use crate::math::Real;
 use std::path::Path;
 
@@ -381,6 +383,17 @@ pub(super) fn validate(
                 }
             }
         }
+        if let Some(m) = &o.motion {
+            if matches!(o.shape, ObstacleShape::Ground { .. }) {
+                return Err(c.fail(
+                    &key("motion.kind"),
+                    motion_kind(m),
+                    "expected no [obstacles.motion] on the ground: the ground cannot move (a \
+                     moving floor is a thin box)",
+                ));
+            }
+            motion(&c, &key("motion"), m)?;
+        }
     }
 
     let a = &scene.adaptivity;
@@ -463,6 +476,83 @@ pub(super) fn validate(
         }
     }
     Ok(())
+}
+
+/// The `kind` of a motion as written in the scene.
+fn motion_kind(m: &MotionSpec) -> &'static str {
+    match m {
+        MotionSpec::Linear { .. } => "\"linear\"",
+        MotionSpec::Spin { .. } => "\"spin\"",
+        MotionSpec::Keyframes { .. } => "\"keyframes\"",
+    }
+}
+
+/// Checks an `[obstacles.motion]` table (`prefix` is `obstacles.N.motion`): finite numbers, a
+/// non-zero spin axis, as many keyframe positions as times (at least one), times strictly
+/// increasing.
+fn motion(c: &Checker, prefix: &str, m: &MotionSpec) -> Result<(), SceneError> {
+    let key = |k: &str| format!("{prefix}.{k}");
+    match m {
+        MotionSpec::Linear { velocity } => c.finite3(&key("velocity"), *velocity),
+        MotionSpec::Spin {
+            axis_point,
+            axis,
+            angular_velocity,
+        } => {
+            c.finite3(&key("axis_point"), *axis_point)?;
+            c.finite3(&key("axis"), *axis)?;
+            if axis.iter().all(|a| *a == 0.0) {
+                return Err(c.fail(
+                    &key("axis"),
+                    format!("{axis:?}"),
+                    "expected a non-zero direction",
+                ));
+            }
+            if !angular_velocity.is_finite() {
+                return Err(c.fail(
+                    &key("angular_velocity"),
+                    angular_velocity,
+                    "expected a finite angular velocity (rad/s)",
+                ));
+            }
+            Ok(())
+        }
+        MotionSpec::Keyframes { times, positions } => {
+            if times.is_empty() || times.len() != positions.len() {
+                return Err(c.fail(
+                    &key("positions"),
+                    format!("{} positions", positions.len()),
+                    &format!(
+                        "expected one position per time, at least one ({} times)",
+                        times.len()
+                    ),
+                ));
+            }
+            for (k, t) in times.iter().enumerate() {
+                if !t.is_finite() {
+                    return Err(c.fail(
+                        &format!("{}[{k}]", key("times")),
+                        t,
+                        "expected a finite time (s)",
+                    ));
+                }
+                if k > 0 && *t <= times[k - 1] {
+                    return Err(c.fail(
+                        &format!("{}[{k}]", key("times")),
+                        t,
+                        &format!(
+                            "expected times strictly increasing (after {})",
+                            times[k - 1]
+                        ),
+                    ));
+                }
+            }
+            for (k, p) in positions.iter().enumerate() {
+                c.finite3(&format!("{}[{k}]", key("positions")), *p)?;
+            }
+            Ok(())
+        }
+    }
 }
 
 /// Why `path` cannot be read as a file, `None` when it is a regular file: not found (or not
@@ -616,17 +706,24 @@ fn sizing_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
 }
 
 /// The 1-based line of `key` in the scene text: `section.key` under `[section]`, `obstacles.N.key`
-/// under the N-th `[[obstacles]]`, `section.key[..]` for list elements. `None` when the key is not
-/// written in the file (a default, or set by `--set`).
+/// under the N-th `[[obstacles]]`, `obstacles.N.sub.key` under the `[obstacles.sub]` that follows
+/// it, `section.key[..]` for list elements. `None` when the key is not written in the file (a
+/// default, or set by `--set`).
 pub(super) fn find_line(text: &str, key: &str) -> Option<usize> {
     let key = key.split('[').next()?;
     let parts: Vec<&str> = key.split('.').collect();
     let (section, index, name) = match parts.as_slice() {
-        [name] => ("", None, *name),
-        [section, name] => (*section, None, *name),
-        [section, index, name] => (*section, index.parse::<usize>().ok(), *name),
+        [name] => (String::new(), None, *name),
+        [section, name] => (section.to_string(), None, *name),
+        [section, index, name] => (section.to_string(), index.parse::<usize>().ok(), *name),
+        [section, index, sub, name] => (
+            format!("{section}.{sub}"),
+            index.parse::<usize>().ok(),
+            *name,
+        ),
         _ => return None,
     };
+    let array = parts[0];
     let mut current = String::new();
     let mut seen_array = 0usize;
     let mut current_index = None;
@@ -634,7 +731,8 @@ pub(super) fn find_line(text: &str, key: &str) -> Option<usize> {
         let l = line.trim();
         if let Some(h) = l.strip_prefix("[[").and_then(|r| r.split("]]").next()) {
             current = h.trim().to_string();
-            if current == section {
+            current_index = None;
+            if current == array {
                 current_index = Some(seen_array);
                 seen_array += 1;
             }
@@ -642,7 +740,10 @@ pub(super) fn find_line(text: &str, key: &str) -> Option<usize> {
         }
         if let Some(h) = l.strip_prefix('[').and_then(|r| r.split(']').next()) {
             current = h.trim().to_string();
-            current_index = None;
+            // A sub-table of the array's element keeps the element's index.
+            if !current.starts_with(&format!("{array}.")) {
+                current_index = None;
+            }
             continue;
         }
         let Some((k, _)) = l.split_once('=') else {

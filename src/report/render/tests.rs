@@ -11,6 +11,7 @@ fn spec(shape: ObstacleShape) -> ObstacleSpec {
         shape,
         friction: 0.0,
         restitution: 0.0,
+        motion: None,
     }
 }
 
