@@ -34,6 +34,8 @@ mod motion;
 mod params;
 mod shape;
 #[cfg(test)]
+mod motion_tests;
+#[cfg(test)]
 mod tests;
 
 pub use error::CollisionError;
