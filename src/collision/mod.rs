@@ -31,10 +31,10 @@ mod error;
 mod faces;
 mod grid;
 mod motion;
-mod params;
-mod shape;
 #[cfg(test)]
 mod motion_tests;
+mod params;
+mod shape;
 #[cfg(test)]
 mod tests;
 

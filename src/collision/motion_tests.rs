@@ -96,7 +96,10 @@ fn unusable_motions_are_named_and_the_ground_cannot_move() {
     for motion in bad {
         assert!(motion.problem().is_some(), "{motion:?}");
         // Poses of an unusable motion never panic: the identity.
-        assert_eq!(motion.matrix(1.0)[..9], [1., 0., 0., 0., 1., 0., 0., 0., 1.]);
+        assert_eq!(
+            motion.matrix(1.0)[..9],
+            [1., 0., 0., 0., 1., 0., 0., 0., 1.]
+        );
         let spec = Obstacle {
             motion,
             ..Obstacle::new(sphere.clone())
@@ -146,7 +149,12 @@ fn a_fast_thin_wall_pushes_a_still_vertex_instead_of_tunnelling() {
         half_extents: [1e-3, 0.5, 0.5],
     })]);
     let (mut x, mut vel) = (start, [v(0.0, 0.0, 0.0)]);
-    assert_eq!(still.respond(&start, &mut x, &mut vel, &[1.0], 0.0, dt).contacts, 0);
+    assert_eq!(
+        still
+            .respond(&start, &mut x, &mut vel, &[1.0], 0.0, dt)
+            .contacts,
+        0
+    );
 }
 
 /// A point mass under gravity from rest at `start` (m) on an obstacle: `steps` steps of `dt` (s),
@@ -219,7 +227,10 @@ fn a_spinning_table_carries_a_resting_point_round() {
     let r = v(x.x, x.y, 0.0);
     let tangent = v(-x.y, x.x, 0.0).normalize();
     let along = vel.dot(&tangent);
-    assert!((along - omega * r.norm()).abs() < 0.02 * omega * r.norm(), "{vel} at {x}");
+    assert!(
+        (along - omega * r.norm()).abs() < 0.02 * omega * r.norm(),
+        "{vel} at {x}"
+    );
     assert!(x.y > 0.0, "{x}");
 }
 
@@ -254,8 +265,14 @@ fn a_moved_mesh_answers_like_a_mesh_built_where_it_stands() {
     let d = v(shift[0], shift[1], shift[2]);
     for p in [v(0.1, 0.1, 0.1), v(0.9, 0.8, 0.7), v(2.0, 0.0, 0.0)] {
         let p = p + d;
-        assert!((moved.penetration(p) - still.penetration(p)).abs() < 1e-12, "{p}");
-        let (a, b) = (moved.closest_surface(p).unwrap(), still.closest_surface(p).unwrap());
+        assert!(
+            (moved.penetration(p) - still.penetration(p)).abs() < 1e-12,
+            "{p}"
+        );
+        let (a, b) = (
+            moved.closest_surface(p).unwrap(),
+            still.closest_surface(p).unwrap(),
+        );
         assert!((a.point - b.point).norm() < 1e-12 && (a.distance - b.distance).abs() < 1e-12);
     }
     // A wide triangle under the top vertices (1, 1, 1) and (-1, -1, 1), its corners outside.
