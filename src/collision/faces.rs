@@ -189,7 +189,7 @@ fn mesh_contact(
     band: Real,
 ) -> Option<TriangleContact> {
     let normals = mesh.pseudo_normals()?;
-    let tri = tri.map(|p| solid.to_mesh_frame(p));
+    let tri = tri.map(|p| solid.mesh_point(p));
     let [a, b, c] = tri;
     let n = (b - a).cross(c - a);
     let area2 = n.length();
@@ -222,9 +222,7 @@ fn mesh_contact(
                 continue;
             }
             let r = p + np * s;
-            if inside_triangle(r, tri, n)
-                && (s >= 0.0 || solid.depth(solid.from_mesh_frame(r, false)) > 0.0)
-            {
+            if inside_triangle(r, tri, n) && (s >= 0.0 || solid.depth(solid.world_point(r)) > 0.0) {
                 best = Some(TriangleContact {
                     point: r,
                     normal: unit * facing.signum(),
@@ -234,8 +232,8 @@ fn mesh_contact(
         }
     }
     best.map(|c| TriangleContact {
-        point: solid.from_mesh_frame(c.point, false),
-        normal: solid.from_mesh_frame(c.normal, true),
+        point: solid.world_point(c.point),
+        normal: solid.world_vector(c.normal),
         ..c
     })
 }

@@ -262,23 +262,31 @@ impl Solid {
         }
     }
 
-    /// A world point (m) in the frame of the mesh's vertices and distance grid (the world
-    /// frame as built): the point itself for a still obstacle.
+    /// For a mesh: a world point (m) in the frame of its vertices and distance grid (the world
+    /// as the scene places the mesh); the point itself for a still obstacle.
     #[inline]
-    pub fn to_mesh_frame(&self, p: Vector) -> Vector {
+    pub fn mesh_point(&self, p: Vector) -> Vector {
         match &self.moving {
             None => p,
             Some(_) => self.pose.inverse_transform_point(p),
         }
     }
 
-    /// The inverse of [`Solid::to_mesh_frame`] for a point (m), or, with `vector`, a direction.
+    /// For a mesh: a point (m) of its frame in the world, the inverse of [`Solid::mesh_point`].
     #[inline]
-    pub fn from_mesh_frame(&self, p: Vector, vector: bool) -> Vector {
-        match (&self.moving, vector) {
-            (None, _) => p,
-            (Some(_), false) => self.pose.transform_point(p),
-            (Some(_), true) => self.pose.transform_vector(p),
+    pub fn world_point(&self, p: Vector) -> Vector {
+        match &self.moving {
+            None => p,
+            Some(_) => self.pose.transform_point(p),
+        }
+    }
+
+    /// For a mesh: a direction of its frame in the world.
+    #[inline]
+    pub fn world_vector(&self, v: Vector) -> Vector {
+        match &self.moving {
+            None => v,
+            Some(_) => self.pose.transform_vector(v),
         }
     }
 
@@ -371,7 +379,7 @@ impl Solid {
         let proj = match &self.geometry {
             Geometry::Mesh(m) => {
                 let grid = self.grid.as_ref();
-                if let Some((low, high)) = grid.and_then(|g| g.bounds(self.to_mesh_frame(p))) {
+                if let Some((low, high)) = grid.and_then(|g| g.bounds(self.mesh_point(p))) {
                     if low >= band {
                         return None;
                     }
@@ -397,7 +405,7 @@ impl Solid {
     pub fn surely_clear(&self, p: Vector, distance: Real) -> bool {
         self.grid
             .as_ref()
-            .and_then(|g| g.bounds(self.to_mesh_frame(p)))
+            .and_then(|g| g.bounds(self.mesh_point(p)))
             .is_some_and(|(low, _)| low >= distance)
     }
 
