@@ -246,8 +246,13 @@ impl Obstacles {
             }
             let p0 = to_glam(x_start[i]);
             let p1 = to_glam(x[i]);
-            // The path relative to each obstacle: `p0` itself for a still one.
+            // The path relative to each obstacle (start and bounding box): the path itself for
+            // a still one.
+            let (lo, hi) = (p0.min(p1), p0.max(p1));
             let path = |ob: &Solid| {
+                if !ob.is_moving() {
+                    return (p0, lo, hi);
+                }
                 let s = ob.path_start(p0);
                 (s, s.min(p1), s.max(p1))
             };
@@ -263,10 +268,16 @@ impl Obstacles {
 
             // Swept test: the earliest surface crossing of the path.
             // A path shorter than the distance from its end to a surface cannot cross it.
+            let length = (p1 - p0).length();
             let mut first: Option<(Real, Vector, usize, Vector)> = None;
             for (k, ob) in self.obstacles.iter().enumerate() {
                 let (s, lo, hi) = path(ob);
-                if !ob.overlaps(lo, hi, margin) || ob.surely_clear(p1, (p1 - s).length()) {
+                let length = if ob.is_moving() {
+                    (p1 - s).length()
+                } else {
+                    length
+                };
+                if !ob.overlaps(lo, hi, margin) || ob.surely_clear(p1, length) {
                     continue;
                 }
                 if let Some((t, n)) = ob.cast_entry(s, p1 - s) {
