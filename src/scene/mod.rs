@@ -9,6 +9,7 @@
 
 mod convert;
 mod diagnose;
+mod motion;
 mod spec;
 mod validate;
 

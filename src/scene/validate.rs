@@ -1,9 +1,7 @@
 //! Range checks of a parsed scene, reported with the file, the line of the key and what was
 //! expected.
 
-use super::{
-    AdaptivitySpec, ClothShape, CriteriaSpec, MotionSpec, ObstacleShape, Scene, SceneError,
-};
+use super::{AdaptivitySpec, ClothShape, CriteriaSpec, ObstacleShape, Scene, SceneError};
 use crate::math::Real;
 use std::path::Path;
 
@@ -123,7 +121,7 @@ impl Checker<'_> {
         }
     }
 
-    fn finite3(&self, key: &str, v: [Real; 3]) -> Result<(), SceneError> {
+    pub(super) fn finite3(&self, key: &str, v: [Real; 3]) -> Result<(), SceneError> {
         if v.iter().all(|c| c.is_finite()) {
             Ok(())
         } else {
@@ -387,12 +385,12 @@ pub(super) fn validate(
             if matches!(o.shape, ObstacleShape::Ground { .. }) {
                 return Err(c.fail(
                     &key("motion.kind"),
-                    motion_kind(m),
+                    super::motion::kind(m),
                     "expected no [obstacles.motion] on the ground: the ground cannot move (a \
                      moving floor is a thin box)",
                 ));
             }
-            motion(&c, &key("motion"), m)?;
+            super::motion::check(&c, &key("motion"), m)?;
         }
     }
 
@@ -476,83 +474,6 @@ pub(super) fn validate(
         }
     }
     Ok(())
-}
-
-/// The `kind` of a motion as written in the scene.
-fn motion_kind(m: &MotionSpec) -> &'static str {
-    match m {
-        MotionSpec::Linear { .. } => "\"linear\"",
-        MotionSpec::Spin { .. } => "\"spin\"",
-        MotionSpec::Keyframes { .. } => "\"keyframes\"",
-    }
-}
-
-/// Checks an `[obstacles.motion]` table (`prefix` is `obstacles.N.motion`): finite numbers, a
-/// non-zero spin axis, as many keyframe positions as times (at least one), times strictly
-/// increasing.
-fn motion(c: &Checker, prefix: &str, m: &MotionSpec) -> Result<(), SceneError> {
-    let key = |k: &str| format!("{prefix}.{k}");
-    match m {
-        MotionSpec::Linear { velocity } => c.finite3(&key("velocity"), *velocity),
-        MotionSpec::Spin {
-            axis_point,
-            axis,
-            angular_velocity,
-        } => {
-            c.finite3(&key("axis_point"), *axis_point)?;
-            c.finite3(&key("axis"), *axis)?;
-            if axis.iter().all(|a| *a == 0.0) {
-                return Err(c.fail(
-                    &key("axis"),
-                    format!("{axis:?}"),
-                    "expected a non-zero direction",
-                ));
-            }
-            if !angular_velocity.is_finite() {
-                return Err(c.fail(
-                    &key("angular_velocity"),
-                    angular_velocity,
-                    "expected a finite angular velocity (rad/s)",
-                ));
-            }
-            Ok(())
-        }
-        MotionSpec::Keyframes { times, positions } => {
-            if times.is_empty() || times.len() != positions.len() {
-                return Err(c.fail(
-                    &key("positions"),
-                    format!("{} positions", positions.len()),
-                    &format!(
-                        "expected one position per time, at least one ({} times)",
-                        times.len()
-                    ),
-                ));
-            }
-            for (k, t) in times.iter().enumerate() {
-                if !t.is_finite() {
-                    return Err(c.fail(
-                        &format!("{}[{k}]", key("times")),
-                        t,
-                        "expected a finite time (s)",
-                    ));
-                }
-                if k > 0 && *t <= times[k - 1] {
-                    return Err(c.fail(
-                        &format!("{}[{k}]", key("times")),
-                        t,
-                        &format!(
-                            "expected times strictly increasing (after {})",
-                            times[k - 1]
-                        ),
-                    ));
-                }
-            }
-            for (k, p) in positions.iter().enumerate() {
-                c.finite3(&format!("{}[{k}]", key("positions")), *p)?;
-            }
-            Ok(())
-        }
-    }
 }
 
 /// Why `path` cannot be read as a file, `None` when it is a regular file: not found (or not
