@@ -96,8 +96,14 @@ pub fn render(args: RenderArgs) -> Result<(), CliError> {
             let loaded = scene::resolve(Some(s), &Overrides::default())?;
             obstacle_meshes(&loaded.scene.obstacles, &loaded.base_dir).map_err(|e| input(&e))?
         }
-        None => Vec::new(),
+        None => Default::default(),
     };
+    // Moving obstacles where they stand at the frame's time (its header; 0 without one).
+    let t = crate::io::read_frame_time(&args.frame)
+        .ok()
+        .flatten()
+        .unwrap_or(0.0);
+    let obstacles = obstacles.at(t);
     render_png(&mesh, &obstacles, args.width, args.height, &args.out).map_err(|e| input(&e))
 }
 

@@ -17,7 +17,7 @@
 //!   apart, its surface smooth at that scale).
 
 use super::shape::{to_glam, to_na, Geometry, Solid};
-use super::{collide_velocity, Obstacles, MARGIN_SLACK};
+use super::{Obstacles, MARGIN_SLACK};
 use crate::math::{Real, Vec3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
@@ -194,7 +194,8 @@ fn convex_contact(
 /// more than the triangle's longest edge below it are not looked at, and a vertex counts as
 /// through the triangle only when the triangle's point on its normal line is inside the solid (a
 /// vertex on the far side of the mesh meets the triangle from behind, through the solid, with
-/// the triangle's point outside).
+/// the triangle's point outside). Worked in the mesh's own frame (a moving mesh's triangle is
+/// brought there, the contact taken back).
 fn mesh_contact(
     solid: &Solid,
     mesh: &TriMesh,
@@ -202,6 +203,7 @@ fn mesh_contact(
     band: Real,
 ) -> Option<TriangleContact> {
     let normals = mesh.pseudo_normals()?;
+    let tri = tri.map(|p| solid.mesh_point(p));
     let [a, b, c] = tri;
     let n = (b - a).cross(c - a);
     let area2 = n.length();
@@ -234,7 +236,7 @@ fn mesh_contact(
                 continue;
             }
             let r = p + np * s;
-            if inside_triangle(r, tri, n) && (s >= 0.0 || solid.depth(r) > 0.0) {
+            if inside_triangle(r, tri, n) && (s >= 0.0 || solid.depth(solid.world_point(r)) > 0.0) {
                 best = Some(TriangleContact {
                     point: r,
                     normal: unit * facing.signum(),
@@ -243,7 +245,11 @@ fn mesh_contact(
             }
         }
     }
-    best
+    best.map(|c| TriangleContact {
+        point: solid.world_point(c.point),
+        normal: solid.world_vector(c.normal),
+        ..c
+    })
 }
 
 /// The bounding box `(lo, hi)` of a triangle (m).
@@ -479,7 +485,7 @@ impl Obstacles {
             let push = c.normal * (margin - c.distance);
             let velocity: Vector = (0..3).map(|k| to_glam(v[f[k]]) * w[k]).sum();
             let mu = 0.5 * (cloth_mu + ob.friction);
-            let dv = collide_velocity(velocity, c.normal, 0.0, mu) - velocity;
+            let dv = ob.collide(velocity, c.point, c.normal, 0.0, mu) - velocity;
             for k in 0..3 {
                 let share = w[k] * inv[k] / s;
                 x[f[k]] += to_na(push * share);

@@ -12,7 +12,13 @@
 //! (`TriMesh` with `ORIENTED | MERGE_DUPLICATE_VERTICES`, read from OBJ files). Each obstacle keeps
 //! its world AABB as a broad phase, so vertices far from an obstacle cost a few comparisons.
 //!
-//! Files: `shape` (one obstacle and its parry queries, nalgebra <-> glam conversions), `faces`
+//! Any obstacle but the ground may move rigidly ([`ObstacleMotion`]): the step loop calls
+//! [`Obstacles::set_step`] before the response, every query then sees the obstacles where they
+//! are at the end of the step, the swept test follows a vertex's path relative to the obstacle
+//! and the response acts on the velocity relative to the obstacle's surface.
+//!
+//! Files: `shape` (one obstacle and its parry queries, nalgebra <-> glam conversions), `motion`
+//! (rigid motions: pose and velocity at a time), `faces`
 //! (obstacles against the cloth's triangles: the surface penetration),
 //! `cylinder_ray` (closed-form ray entry into a cylinder, in place of parry's GJK), `grid` (mesh
 //! signed-distance bounds), `error` ([`CollisionError`]).
@@ -24,6 +30,9 @@ mod cylinder_ray;
 mod error;
 mod faces;
 mod grid;
+mod motion;
+#[cfg(test)]
+mod motion_tests;
 mod params;
 mod shape;
 #[cfg(test)]
@@ -31,6 +40,7 @@ mod tests;
 
 pub use error::CollisionError;
 pub use faces::{FaceContactStats, FaceScratch};
+pub use motion::ObstacleMotion;
 pub use params::{ContactParams, Obstacle, ObstacleShape};
 
 use crate::math::{Real, Vec3};
@@ -49,7 +59,7 @@ pub const TOUCH_MARGINS: Real = 1.5;
 /// margin sits there up to rounding and must not be pushed again.
 const MARGIN_SLACK: Real = 1e-9;
 
-/// All static obstacles of a scene, the collision margin and the default restitution.
+/// All obstacles of a scene, the collision margin and the default restitution.
 pub struct Obstacles {
     obstacles: Vec<Solid>,
     margin: Real,
@@ -153,6 +163,21 @@ impl Obstacles {
         self.obstacles.len()
     }
 
+    /// Whether any obstacle moves.
+    pub fn any_moving(&self) -> bool {
+        self.obstacles.iter().any(Solid::is_moving)
+    }
+
+    /// Moves every moving obstacle to its pose at `t1` (s) for the step `t0 -> t1` (s): the
+    /// queries that follow see it there, [`Obstacles::respond`] follows each vertex's path
+    /// relative to it over the step and uses its velocity at `t1`. Still obstacles are untouched.
+    /// Built obstacles stand at their pose at `t = 0`.
+    pub fn set_step(&mut self, t0: Real, t1: Real) {
+        for ob in &mut self.obstacles {
+            ob.set_step(t0, t1);
+        }
+    }
+
     /// Whether faces collide too (`ContactParams::faces`).
     pub fn face_contact(&self) -> bool {
         self.faces
@@ -190,6 +215,11 @@ impl Obstacles {
     /// `dv_N` being the removed normal speed) and is moved along the projection direction to the
     /// margin. Vertices that did neither are left unchanged.
     ///
+    /// A moving obstacle (after [`Obstacles::set_step`] for the step `t1 - dt -> t1`) is tested
+    /// against the path relative to it ([`shape::Solid::path_start`]), and both responses act on
+    /// the velocity relative to its surface's velocity at the contact point, which is then added
+    /// back: restitution reflects the relative normal velocity and friction drags the cloth along.
+    ///
     /// Returns the number of vertices with a contact and the largest depth (m) of a vertex inside
     /// a raw obstacle surface afterwards (non-zero only when obstacles fight over a vertex).
     /// Allocation-free.
@@ -216,9 +246,20 @@ impl Obstacles {
             }
             let p0 = to_glam(x_start[i]);
             let p1 = to_glam(x[i]);
-            let lo = p0.min(p1);
-            let hi = p0.max(p1);
-            if !self.obstacles.iter().any(|ob| ob.overlaps(lo, hi, margin)) {
+            // The path relative to each obstacle (start and bounding box): the path itself for
+            // a still one.
+            let (lo, hi) = (p0.min(p1), p0.max(p1));
+            let path = |ob: &Solid| {
+                if !ob.is_moving() {
+                    return (p0, lo, hi);
+                }
+                let s = ob.path_start(p0);
+                (s, s.min(p1), s.max(p1))
+            };
+            if !self.obstacles.iter().any(|ob| {
+                let (_, lo, hi) = path(ob);
+                ob.overlaps(lo, hi, margin)
+            }) {
                 continue;
             }
             let mut vel = to_glam(v[i]);
@@ -228,29 +269,35 @@ impl Obstacles {
             // Swept test: the earliest surface crossing of the path.
             // A path shorter than the distance from its end to a surface cannot cross it.
             let length = (p1 - p0).length();
-            let mut first: Option<(Real, Vector, usize)> = None;
+            let mut first: Option<(Real, Vector, usize, Vector)> = None;
             for (k, ob) in self.obstacles.iter().enumerate() {
+                let (s, lo, hi) = path(ob);
+                let length = if ob.is_moving() {
+                    (p1 - s).length()
+                } else {
+                    length
+                };
                 if !ob.overlaps(lo, hi, margin) || ob.surely_clear(p1, length) {
                     continue;
                 }
-                if let Some((t, n)) = ob.cast_entry(p0, p1 - p0) {
-                    if first.is_none_or(|(best, _, _)| t < best) {
-                        first = Some((t, n, k));
+                if let Some((t, n)) = ob.cast_entry(s, p1 - s) {
+                    if first.is_none_or(|(best, ..)| t < best) {
+                        first = Some((t, n, k, s + (p1 - s) * t));
                     }
                 }
             }
-            if let Some((_, n, k)) = first {
+            if let Some((_, n, k, hit)) = first {
                 let ob = &self.obstacles[k];
                 let mu = 0.5 * (cloth_mu + ob.friction);
-                vel = collide_velocity(vel, n, self.gamma(ob), mu);
+                vel = ob.collide(vel, hit, n, self.gamma(ob), mu);
                 p = p0 + vel * dt;
                 contact = true;
             }
 
             // Margin: push out of every obstacle, removing the inward normal velocity.
-            let (q, pushed, settled) = self.push_out_glam(p, |ob, normal| {
+            let (q, pushed, settled) = self.push_out_glam(p, |ob, point, normal| {
                 let mu = 0.5 * (cloth_mu + ob.friction);
-                vel = collide_velocity(vel, normal, 0.0, mu);
+                vel = ob.collide(vel, point, normal, 0.0, mu);
             });
             p = q;
             contact |= pushed;
@@ -284,18 +331,19 @@ impl Obstacles {
     /// margin, along the projection direction; returns the new point (unchanged if clear). For
     /// vertices created by adaptation.
     pub fn push_out(&self, p: Vec3) -> Vec3 {
-        to_na(self.push_out_glam(to_glam(p), |_, _| {}).0)
+        to_na(self.push_out_glam(to_glam(p), |_, _, _| {}).0)
     }
 
     /// Moves `p` out to the margin of every obstacle it is inside or closer than the margin to,
     /// along the projection direction, sweeping over the obstacles up to [`PUSH_OUT_SWEEPS`]
-    /// times; `on_push` hears each push before it happens (the obstacle and its outward normal).
+    /// times; `on_push` hears each push before it happens (the obstacle, its surface point and
+    /// its outward normal there).
     /// Returns the final point, whether any push happened, and whether a sweep found nothing left
     /// to push (settled).
     fn push_out_glam(
         &self,
         mut p: Vector,
-        mut on_push: impl FnMut(&Solid, Vector),
+        mut on_push: impl FnMut(&Solid, Vector, Vector),
     ) -> (Vector, bool, bool) {
         let margin = self.margin;
         let mut pushed = false;
@@ -306,7 +354,7 @@ impl Obstacles {
                     continue;
                 }
                 if let Some(proj) = ob.project_near(p, margin - MARGIN_SLACK) {
-                    on_push(ob, proj.normal);
+                    on_push(ob, proj.point, proj.normal);
                     p = proj.point + proj.normal * margin;
                     moved = true;
                 }

@@ -3,6 +3,7 @@
 //! defaults); the scene converts its `[collision]` and `[[obstacles]]` sections into them, with
 //! mesh files already resolved to a path.
 
+use super::ObstacleMotion;
 use crate::math::Real;
 use std::path::PathBuf;
 
@@ -71,7 +72,7 @@ pub enum ObstacleShape {
     },
 }
 
-/// One static obstacle: its geometry and its contact parameters.
+/// One obstacle: its geometry, its contact parameters and how it moves.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Obstacle {
     /// The geometry.
@@ -82,16 +83,20 @@ pub struct Obstacle {
     /// Restitution in (0, 1) for this obstacle; 0 (the default) uses
     /// [`ContactParams::restitution`].
     pub restitution: Real,
+    /// How it moves (rigidly, from the geometry as built). Default still; the ground cannot
+    /// move.
+    pub motion: ObstacleMotion,
 }
 
 impl Obstacle {
-    /// An obstacle of this shape with the default contact parameters (no friction, the shared
-    /// restitution).
+    /// A still obstacle of this shape with the default contact parameters (no friction, the
+    /// shared restitution).
     pub fn new(shape: ObstacleShape) -> Self {
         Obstacle {
             shape,
             friction: 0.0,
             restitution: 0.0,
+            motion: ObstacleMotion::Still,
         }
     }
 }

@@ -2,9 +2,11 @@
 //! three geometric queries the response needs (swept entry, signed-distance projection, AABB
 //! overlap). The nalgebra <-> glam conversions of the module live here.
 
+use super::collide_velocity;
 use super::cylinder_ray::cylinder_entry;
 use super::error::CollisionError;
 use super::grid::DistanceGrid;
+use super::motion::{ObstacleMotion, RigidVelocity};
 use super::params::{Obstacle, ObstacleShape};
 use crate::math::{Real, Vec3};
 use parry3d_f64::math::{Pose, Vector};
@@ -55,9 +57,10 @@ pub(crate) struct Projection {
     pub distance: Real,
 }
 
-/// One static obstacle, built: its parry3d shape, pose, contact parameters and bounds.
+/// One obstacle, built: its parry3d shape, pose, contact parameters and bounds.
 pub(crate) struct Solid {
     geometry: Geometry,
+    /// The pose now (for a moving obstacle, at the end of the current step).
     pose: Pose,
     /// Friction coefficient of the surface.
     pub friction: Real,
@@ -66,8 +69,22 @@ pub(crate) struct Solid {
     /// World AABB of the raw shape (m); infinite for the ground.
     lo: Vector,
     hi: Vector,
-    /// Coarse signed-distance grid (meshes only), covering the AABB grown by `grid_pad`.
+    /// Coarse signed-distance grid (meshes only), covering the AABB grown by `grid_pad`, in the
+    /// mesh's own frame.
     grid: Option<DistanceGrid>,
+    /// How it moves; `None` for a still obstacle (no transform on any query).
+    moving: Option<Box<Moving>>,
+}
+
+/// A moving obstacle's motion and its state over the current step `t0 -> t1`.
+struct Moving {
+    motion: ObstacleMotion,
+    /// The pose as built (before the motion).
+    built: Pose,
+    /// `M(t1) M(t0)^-1`: carries a point fixed to the obstacle at `t0` to where it is at `t1`.
+    carry: Pose,
+    /// The velocity field at `t1`.
+    velocity: RigidVelocity,
 }
 
 fn positive(index: usize, what: &str, value: Real) -> Result<Real, CollisionError> {
@@ -97,6 +114,16 @@ impl Solid {
     /// sampled as a mid phase (see `grid`).
     pub fn build(index: usize, spec: &Obstacle, grid_pad: Real) -> Result<Solid, CollisionError> {
         let bad = |message: String| CollisionError::BadShape { index, message };
+        if let Some(why) = spec.motion.problem() {
+            return Err(bad(format!("motion: {why}")));
+        }
+        let moving = match spec.shape {
+            ObstacleShape::Ground { .. } if !spec.motion.is_still() => {
+                return Err(bad("the ground cannot move".into()));
+            }
+            _ if spec.motion.is_still() => None,
+            _ => Some(spec.motion.clone()),
+        };
         let (geometry, pose) = match &spec.shape {
             ObstacleShape::Ground { height } => {
                 if !height.is_finite() {
@@ -168,6 +195,7 @@ impl Solid {
             lo,
             hi,
             grid: None,
+            moving: None,
         };
         if matches!(obstacle.geometry, Geometry::Mesh(_)) {
             let pad = Vector::splat(grid_pad.max(0.0));
@@ -175,7 +203,91 @@ impl Solid {
                 obstacle.project(c).distance
             }));
         }
+        if let Some(motion) = moving {
+            obstacle.moving = Some(Box::new(Moving {
+                motion,
+                built: obstacle.pose,
+                carry: Pose::identity(),
+                velocity: RigidVelocity::default(),
+            }));
+            obstacle.set_step(0.0, 0.0);
+        }
         Ok(obstacle)
+    }
+
+    /// Whether the obstacle moves.
+    #[inline]
+    pub fn is_moving(&self) -> bool {
+        self.moving.is_some()
+    }
+
+    /// Moves the obstacle to its pose at `t1` (s), for the step `t0 -> t1`: its pose, bounding
+    /// box, the carry of [`Solid::path_start`] and the velocity of [`Solid::collide`]. Nothing
+    /// for a still obstacle.
+    pub fn set_step(&mut self, t0: Real, t1: Real) {
+        let Some(m) = self.moving.as_mut() else {
+            return;
+        };
+        let m1 = m.motion.pose(t1);
+        m.carry = m1 * m.motion.pose(t0).inverse();
+        m.velocity = m.motion.velocity(t1);
+        self.pose = m1 * m.built;
+        (self.lo, self.hi) = aabb_of(self.shape(), &self.pose);
+    }
+
+    /// Where a path starting at `p0` (m, at the start of the step) starts relative to the
+    /// obstacle as it stands now: `p0` carried by the obstacle's motion over the step, so the
+    /// segment to the path's end is the path in the obstacle's frame (exact for a translation;
+    /// for a rotation, the chord of the relative arc). `p0` itself for a still obstacle.
+    #[inline]
+    pub fn path_start(&self, p0: Vector) -> Vector {
+        match &self.moving {
+            None => p0,
+            Some(m) => m.carry.transform_point(p0),
+        }
+    }
+
+    /// The response (4.16)-(4.18) of velocity `vel` (m/s) at the contact point `p` (m) with
+    /// outward unit normal `n`, restitution `gamma` and friction `mu`, on the velocity relative to
+    /// the obstacle's material at `p` (for a still obstacle, `vel` itself): friction drags the
+    /// cloth along with a moving surface.
+    #[inline]
+    pub fn collide(&self, vel: Vector, p: Vector, n: Vector, gamma: Real, mu: Real) -> Vector {
+        match &self.moving {
+            None => collide_velocity(vel, n, gamma, mu),
+            Some(m) => {
+                let carried = m.velocity.at(p);
+                collide_velocity(vel - carried, n, gamma, mu) + carried
+            }
+        }
+    }
+
+    /// For a mesh: a world point (m) in the frame of its vertices and distance grid (the world
+    /// as the scene places the mesh); the point itself for a still obstacle.
+    #[inline]
+    pub fn mesh_point(&self, p: Vector) -> Vector {
+        match &self.moving {
+            None => p,
+            Some(_) => self.pose.inverse_transform_point(p),
+        }
+    }
+
+    /// For a mesh: a point (m) of its frame in the world, the inverse of [`Solid::mesh_point`].
+    #[inline]
+    pub fn world_point(&self, p: Vector) -> Vector {
+        match &self.moving {
+            None => p,
+            Some(_) => self.pose.transform_point(p),
+        }
+    }
+
+    /// For a mesh: a direction of its frame in the world.
+    #[inline]
+    pub fn world_vector(&self, v: Vector) -> Vector {
+        match &self.moving {
+            None => v,
+            Some(_) => self.pose.transform_vector(v),
+        }
     }
 
     /// The parry3d shape, in the obstacle's local frame.
@@ -266,7 +378,8 @@ impl Solid {
     pub fn project_near(&self, p: Vector, band: Real) -> Option<Projection> {
         let proj = match &self.geometry {
             Geometry::Mesh(m) => {
-                if let Some((low, high)) = self.grid.as_ref().and_then(|g| g.bounds(p)) {
+                let grid = self.grid.as_ref();
+                if let Some((low, high)) = grid.and_then(|g| g.bounds(self.mesh_point(p))) {
                     if low >= band {
                         return None;
                     }
@@ -292,7 +405,7 @@ impl Solid {
     pub fn surely_clear(&self, p: Vector, distance: Real) -> bool {
         self.grid
             .as_ref()
-            .and_then(|g| g.bounds(p))
+            .and_then(|g| g.bounds(self.mesh_point(p)))
             .is_some_and(|(low, _)| low >= distance)
     }
 

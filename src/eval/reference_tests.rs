@@ -161,3 +161,21 @@ fn bin_round_trip() {
         Err(ReferenceError::Malformed { .. })
     ));
 }
+
+/// The keys of the shipped scenes without moving obstacles, as computed before obstacles could
+/// move (`[obstacles.motion]`) and after face contact became the default (the mode is part of
+/// the key): a scene that does not use a later key keeps its cached references. The sphere's
+/// key is the one the build before the motion merge gave its reference.
+#[test]
+fn scenes_without_motion_keep_their_cache_keys() {
+    let settings = ReferenceSettings::default();
+    for (name, key) in [
+        ("sphere", "f0230cb2139792e0"),
+        ("round_table", "d6e383108c333410"),
+        ("hanging", "454b940d2ad9874f"),
+        ("sphere_peer", "df5e1a1d60c3da56"),
+    ] {
+        let scene = load_embedded(name, &[]).unwrap().unwrap();
+        assert_eq!(cache_key(&scene, &settings), key, "{name}");
+    }
+}

@@ -5,7 +5,8 @@
 
 use super::spec::{
     AdaptivitySpec, CollisionMode, CollisionSpec, CriteriaSpec, ForcesSpec, IntegratorSpec,
-    LinearSolver, MaterialSpec, ObstacleShape, ObstacleSpec, SpringMode, StiffnessModel,
+    LinearSolver, MaterialSpec, MotionSpec, ObstacleShape, ObstacleSpec, SpringMode,
+    StiffnessModel,
 };
 use super::LoadedScene;
 use crate::adapt::{self, AdaptParams};
@@ -136,6 +137,33 @@ impl ObstacleSpec {
             shape,
             friction: self.friction,
             restitution: self.restitution,
+            motion: self
+                .motion
+                .as_ref()
+                .map_or(collision::ObstacleMotion::Still, Into::into),
+        }
+    }
+}
+
+impl From<&MotionSpec> for collision::ObstacleMotion {
+    fn from(m: &MotionSpec) -> Self {
+        match m {
+            MotionSpec::Linear { velocity } => collision::ObstacleMotion::Linear {
+                velocity: *velocity,
+            },
+            MotionSpec::Spin {
+                axis_point,
+                axis,
+                angular_velocity,
+            } => collision::ObstacleMotion::Spin {
+                axis_point: *axis_point,
+                axis: *axis,
+                angular_velocity: *angular_velocity,
+            },
+            MotionSpec::Keyframes { times, positions } => collision::ObstacleMotion::Keyframes {
+                times: times.clone(),
+                positions: positions.clone(),
+            },
         }
     }
 }
@@ -223,6 +251,7 @@ mod tests {
             },
             friction: 0.3,
             restitution: 0.0,
+            motion: None,
         };
         let core = spec.to_core(Path::new("scenes"));
         assert_eq!(

@@ -4,10 +4,10 @@
 //! mistake in it (a wrong type, an unknown key, a missing field, an unknown kind) at the
 //! `[[obstacles]]` header with no key name. This re-reads the obstacles one key at a time against
 //! a valid obstacle of the same kind, so the error names the key, its own line (or the option
-//! that set it) and what was expected.
+//! that set it) and what was expected; a mistake in its `[obstacles.motion]` table likewise.
 
 use super::validate::Checker;
-use super::{ObstacleShape, ObstacleSpec, SceneError};
+use super::{MotionSpec, ObstacleShape, ObstacleSpec, SceneError};
 use serde::Deserialize;
 
 /// A valid obstacle of each kind: their serialized keys are the keys each kind accepts.
@@ -50,10 +50,13 @@ pub(super) fn obstacle_error(scene: &toml::Table, c: &Checker) -> Option<SceneEr
     None
 }
 
-/// Why obstacle `i` (`table`) failed with `error`: an unknown kind, an unknown key or a key of
-/// the wrong type (each on its own line), else the parser's message on the `kind` line.
+/// Why obstacle `i` (`table`) failed with `error`: its `[obstacles.motion]` table if that is
+/// what fails ([`motion_error`]), else an unknown kind, an unknown key or a key of the wrong type
+/// (each on its own line), else the parser's message on the `kind` line.
 fn explain(i: usize, table: &toml::Table, error: &toml::de::Error, c: &Checker) -> SceneError {
-    let key = |k: &str| format!("obstacles.{i}.{k}");
+    if let Some(e) = table.get("motion").and_then(|m| motion_error(i, m, c)) {
+        return e;
+    }
     let valid: Vec<toml::Table> = templates()
         .into_iter()
         .filter_map(|shape| {
@@ -61,10 +64,54 @@ fn explain(i: usize, table: &toml::Table, error: &toml::de::Error, c: &Checker) 
                 shape,
                 friction: 0.0,
                 restitution: 0.0,
+                motion: Some(MotionSpec::Linear { velocity: [0.0; 3] }),
             })
             .ok()
         })
         .collect();
+    let parse = |t| ObstacleSpec::deserialize(t).map(drop);
+    explain_table(&format!("obstacles.{i}"), table, &valid, parse, error, c)
+}
+
+/// Why the `motion` value of obstacle `i` does not read, as [`explain`] says it for an
+/// obstacle; `None` when it reads.
+fn motion_error(i: usize, motion: &toml::Value, c: &Checker) -> Option<SceneError> {
+    let prefix = format!("obstacles.{i}.motion");
+    let error = MotionSpec::deserialize(motion.clone()).err()?;
+    let Some(table) = motion.as_table() else {
+        return Some(c.fail(&prefix, motion, "expected a table"));
+    };
+    let valid: Vec<toml::Table> = [
+        MotionSpec::Linear { velocity: [0.0; 3] },
+        MotionSpec::Spin {
+            axis_point: [0.0; 3],
+            axis: [0.0, 0.0, 1.0],
+            angular_velocity: 0.0,
+        },
+        MotionSpec::Keyframes {
+            times: vec![0.0],
+            positions: vec![[0.0; 3]],
+        },
+    ]
+    .iter()
+    .filter_map(|m| toml::Table::try_from(m).ok())
+    .collect();
+    let parse = |t| MotionSpec::deserialize(t).map(drop);
+    Some(explain_table(&prefix, table, &valid, parse, &error, c))
+}
+
+/// Why `table` (the keys under `prefix`) failed with `error`, given a valid table of each kind
+/// (`valid`, tagged by `kind`) and its parser: an unknown kind, an unknown key or a key of the
+/// wrong type, else the parser's message on the `kind` line.
+fn explain_table(
+    prefix: &str,
+    table: &toml::Table,
+    valid: &[toml::Table],
+    parse: impl Fn(toml::Value) -> Result<(), toml::de::Error>,
+    error: &toml::de::Error,
+    c: &Checker,
+) -> SceneError {
+    let key = |k: &str| format!("{prefix}.{k}");
     let kind = table.get("kind");
     let Some(template) = valid
         .iter()
@@ -92,7 +139,7 @@ fn explain(i: usize, table: &toml::Table, error: &toml::de::Error, c: &Checker) 
         }
         let mut probe = template.clone();
         probe.insert(k.clone(), v.clone());
-        if let Err(e) = ObstacleSpec::deserialize(toml::Value::Table(probe)) {
+        if let Err(e) = parse(toml::Value::Table(probe)) {
             return c.fail(&key(k), v, e.message().trim());
         }
     }

@@ -9,6 +9,7 @@
 
 mod convert;
 mod diagnose;
+mod motion;
 mod spec;
 mod validate;
 
@@ -31,6 +32,11 @@ pub const EMBEDDED_SCENES: &[(&str, &str)] = &[
     ("bunny", include_str!("../../scenes/bunny.toml")),
     ("hanging", include_str!("../../scenes/hanging.toml")),
     ("sphere_peer", include_str!("../../scenes/sphere_peer.toml")),
+    (
+        "moving_sphere",
+        include_str!("../../scenes/moving_sphere.toml"),
+    ),
+    ("turntable", include_str!("../../scenes/turntable.toml")),
 ];
 
 /// A scene ready to run: the parsed, overridden and validated scene, where it came from, and the

@@ -38,7 +38,7 @@ pub struct Scene {
     /// `[collision]`: margin and default restitution.
     #[serde(default)]
     pub collision: CollisionSpec,
-    /// `[[obstacles]]`: static obstacles.
+    /// `[[obstacles]]`: obstacles, still or moving rigidly.
     #[serde(default)]
     pub obstacles: Vec<ObstacleSpec>,
     /// `[adaptivity]`: strategy choice and the criteria parameters.
@@ -410,7 +410,7 @@ fn one() -> Real {
     1.0
 }
 
-/// `[[obstacles]]`: one static obstacle, its geometry and its contact parameters.
+/// `[[obstacles]]`: one obstacle, its geometry, its contact parameters and how it moves.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct ObstacleSpec {
     /// The geometry (`kind = "ground" | "sphere" | "cylinder" | "box" | "mesh"` and its fields).
@@ -422,6 +422,47 @@ pub struct ObstacleSpec {
     /// Restitution in (0, 1) for this obstacle; 0 (the default) uses `[collision] restitution`.
     #[serde(default)]
     pub restitution: Real,
+    /// `[obstacles.motion]`: how the obstacle moves. Default none: it stays where it is. Not
+    /// written when absent, so the scenes without it serialize (and key their cached
+    /// references) as before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub motion: Option<MotionSpec>,
+}
+
+/// `[obstacles.motion]`: a rigid motion of the obstacle from where the scene puts it, at time
+/// `t` (s) from the start of the run. The ground cannot move.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum MotionSpec {
+    /// Constant velocity: moved by `velocity t`.
+    Linear {
+        /// Velocity (m/s).
+        velocity: [Real; 3],
+    },
+    /// Constant rotation about a fixed axis: turned by `angular_velocity t` (right-handed about
+    /// `axis`).
+    Spin {
+        /// A point of the axis (m). Default the origin.
+        #[serde(default)]
+        axis_point: [Real; 3],
+        /// Direction of the axis, not zero. Default `[0, 0, 1]` (vertical).
+        #[serde(default = "vertical")]
+        axis: [Real; 3],
+        /// Angular velocity (rad/s).
+        angular_velocity: Real,
+    },
+    /// Keyframed translations, linearly interpolated; held at the first and last outside the
+    /// keyframe times.
+    Keyframes {
+        /// Keyframe times (s), strictly increasing.
+        times: Vec<Real>,
+        /// Offset from where the scene puts the obstacle at each time (m), one per time.
+        positions: Vec<[Real; 3]>,
+    },
+}
+
+fn vertical() -> [Real; 3] {
+    [0.0, 0.0, 1.0]
 }
 
 /// Which criteria select edges (`adaptivity.criteria`).

@@ -313,3 +313,122 @@ fn an_error_from_a_setting_names_its_key_and_value_once() {
     );
     assert_eq!(e.matches("size_angle").count(), 1, "{e}");
 }
+
+/// `[obstacles.motion]` reads into the core's motion and takes `--set`; a scene without it
+/// serializes without a `motion` key (so its reference cache key is unchanged:
+/// `eval::reference_tests` pins them).
+#[test]
+fn obstacle_motion_reads_takes_settings_and_is_absent_from_still_scenes() {
+    use crate::collision::ObstacleMotion;
+    let loaded = load_embedded("turntable", &[]).unwrap().unwrap();
+    let core = loaded.obstacles();
+    assert_eq!(
+        core[0].motion,
+        ObstacleMotion::Spin {
+            axis_point: [0.0; 3],
+            axis: [0.0, 0.0, 1.0],
+            angular_velocity: 3.0
+        }
+    );
+    assert_eq!(core[1].motion, ObstacleMotion::Still);
+    let set = ["obstacles.0.motion.velocity=[0.0, 2.0, 0.0]"].map(String::from);
+    let loaded = load_embedded("moving_sphere", &set).unwrap().unwrap();
+    assert_eq!(
+        loaded.obstacles()[0].motion,
+        ObstacleMotion::Linear {
+            velocity: [0.0, 2.0, 0.0]
+        }
+    );
+    let still = load_embedded("round_table", &[]).unwrap().unwrap();
+    let text = toml::to_string(&still.scene).unwrap();
+    assert!(!text.contains("motion"), "{text}");
+    // Keyframes with their defaults-free keys round-trip through the resolved scene.
+    let keyframes = "[[obstacles]]\nkind = \"box\"\ncenter = [0,0,0]\nhalf_extents = [1,1,1]\n\
+                     [obstacles.motion]\nkind = \"keyframes\"\ntimes = [0, 0.5]\n\
+                     positions = [[0,0,0], [0.1,0,0]]\n";
+    let loaded = load_text(keyframes, &[]).unwrap();
+    let back = from_text(
+        &resolved_toml(&loaded, "test"),
+        "back.toml",
+        "back",
+        loaded.base_dir.clone(),
+        &[],
+    )
+    .unwrap();
+    assert_eq!(back.scene.obstacles, loaded.scene.obstacles);
+}
+
+/// A bad `[obstacles.motion]` is named by its key, its line and what was expected, as any other
+/// key: values out of range, unknown keys and kinds, wrong types, a moving ground.
+#[test]
+fn bad_motions_are_rejected_with_key_line_and_expectation() {
+    let sphere = "[[obstacles]]\nkind = \"sphere\"\ncenter = [0,0,0]\nradius = 1\n\
+                  [obstacles.motion]\n";
+    let cases = [
+        (
+            "kind = \"spin\"\naxis = [0,0,0]\nangular_velocity = 1\n",
+            "obstacles.0.motion.axis",
+            ":7",
+            "non-zero",
+        ),
+        (
+            "kind = \"keyframes\"\ntimes = [0, 1, 1]\npositions = [[0,0,0],[0,0,0],[0,0,0]]\n",
+            "obstacles.0.motion.times[2]",
+            ":7",
+            "strictly increasing",
+        ),
+        (
+            "kind = \"keyframes\"\ntimes = [0, 1]\npositions = [[0,0,0]]\n",
+            "obstacles.0.motion.positions",
+            ":8",
+            "one position per time",
+        ),
+        (
+            "kind = \"linear\"\nvelocity = [nan, 0, 0]\n",
+            "obstacles.0.motion.velocity",
+            ":7",
+            "finite",
+        ),
+        (
+            "kind = \"linear\"\nvelocity = [1,0,0]\nspeed = 2\n",
+            "obstacles.0.motion.speed",
+            ":8",
+            "no such key",
+        ),
+        (
+            "kind = \"orbit\"\n",
+            "obstacles.0.motion.kind",
+            ":6",
+            "\"keyframes\"",
+        ),
+        (
+            "kind = \"spin\"\nangular_velocity = \"fast\"\n",
+            "obstacles.0.motion.angular_velocity",
+            ":7",
+            "f64",
+        ),
+        (
+            "kind = \"linear\"\n",
+            "obstacles.0.motion.kind",
+            ":6",
+            "velocity",
+        ),
+    ];
+    let ground = "[[obstacles]]\nkind = \"ground\"\n[obstacles.motion]\nkind = \"linear\"\n\
+                  velocity = [0,0,1]\n";
+    let texts = cases
+        .iter()
+        .map(|(motion, key, line, expected)| (format!("{sphere}{motion}"), *key, *line, *expected))
+        .chain([(
+            ground.to_string(),
+            "obstacles.0.motion.kind",
+            ":4",
+            "the ground cannot move",
+        )]);
+    for (text, key, line, expected) in texts {
+        let msg = load_text(&text, &[]).unwrap_err().to_string();
+        assert!(msg.contains(key), "{text}\n{msg}");
+        assert!(msg.contains(&format!("test.toml{line}")), "{text}\n{msg}");
+        assert!(msg.contains(expected), "{text}\n{msg}");
+    }
+}

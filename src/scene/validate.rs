@@ -121,7 +121,7 @@ impl Checker<'_> {
         }
     }
 
-    fn finite3(&self, key: &str, v: [Real; 3]) -> Result<(), SceneError> {
+    pub(super) fn finite3(&self, key: &str, v: [Real; 3]) -> Result<(), SceneError> {
         if v.iter().all(|c| c.is_finite()) {
             Ok(())
         } else {
@@ -381,6 +381,17 @@ pub(super) fn validate(
                 }
             }
         }
+        if let Some(m) = &o.motion {
+            if matches!(o.shape, ObstacleShape::Ground { .. }) {
+                return Err(c.fail(
+                    &key("motion.kind"),
+                    super::motion::kind(m),
+                    "expected no [obstacles.motion] on the ground: the ground cannot move (a \
+                     moving floor is a thin box)",
+                ));
+            }
+            super::motion::check(&c, &key("motion"), m)?;
+        }
     }
 
     let a = &scene.adaptivity;
@@ -616,17 +627,24 @@ fn sizing_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
 }
 
 /// The 1-based line of `key` in the scene text: `section.key` under `[section]`, `obstacles.N.key`
-/// under the N-th `[[obstacles]]`, `section.key[..]` for list elements. `None` when the key is not
-/// written in the file (a default, or set by `--set`).
+/// under the N-th `[[obstacles]]`, `obstacles.N.sub.key` under the `[obstacles.sub]` that follows
+/// it, `section.key[..]` for list elements. `None` when the key is not written in the file (a
+/// default, or set by `--set`).
 pub(super) fn find_line(text: &str, key: &str) -> Option<usize> {
     let key = key.split('[').next()?;
     let parts: Vec<&str> = key.split('.').collect();
     let (section, index, name) = match parts.as_slice() {
-        [name] => ("", None, *name),
-        [section, name] => (*section, None, *name),
-        [section, index, name] => (*section, index.parse::<usize>().ok(), *name),
+        [name] => (String::new(), None, *name),
+        [section, name] => (section.to_string(), None, *name),
+        [section, index, name] => (section.to_string(), index.parse::<usize>().ok(), *name),
+        [section, index, sub, name] => (
+            format!("{section}.{sub}"),
+            index.parse::<usize>().ok(),
+            *name,
+        ),
         _ => return None,
     };
+    let array = parts[0];
     let mut current = String::new();
     let mut seen_array = 0usize;
     let mut current_index = None;
@@ -634,7 +652,8 @@ pub(super) fn find_line(text: &str, key: &str) -> Option<usize> {
         let l = line.trim();
         if let Some(h) = l.strip_prefix("[[").and_then(|r| r.split("]]").next()) {
             current = h.trim().to_string();
-            if current == section {
+            current_index = None;
+            if current == array {
                 current_index = Some(seen_array);
                 seen_array += 1;
             }
@@ -642,7 +661,10 @@ pub(super) fn find_line(text: &str, key: &str) -> Option<usize> {
         }
         if let Some(h) = l.strip_prefix('[').and_then(|r| r.split(']').next()) {
             current = h.trim().to_string();
-            current_index = None;
+            // A sub-table of the array's element keeps the element's index.
+            if !current.starts_with(&format!("{array}.")) {
+                current_index = None;
+            }
             continue;
         }
         let Some((k, _)) = l.split_once('=') else {

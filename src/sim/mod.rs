@@ -352,6 +352,8 @@ impl Simulation {
         self.stage_times.integrate_s += secs(clock.elapsed());
 
         let clock = Instant::now();
+        // Moving obstacles go to where they are at the end of the step.
+        self.obstacles.set_step(self.t, self.t + dt);
         let contacts = if self.obstacles.is_empty() {
             ContactStats::default()
         } else {

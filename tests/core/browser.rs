@@ -55,10 +55,11 @@ fn chromium(browser: &Path, profile: &Path, page: &Path, extra: &[&str]) -> Stri
     String::from_utf8_lossy(&out.stdout).into_owned()
 }
 
-/// Frames of a 5x5 sphere run of 0.05 s (a frame every 0.01 s) with their times.
-fn tiny_run(dir: &Path) -> (Vec<f64>, Vec<FrameMesh>) {
+/// Frames of a 5x5 run of the embedded scene `name` for 0.05 s (a frame every 0.01 s) with
+/// their times.
+fn tiny_run(dir: &Path, name: &str) -> (Vec<f64>, Vec<FrameMesh>) {
     let loaded = scene(
-        "sphere",
+        name,
         &[
             "cloth.resolution=5",
             "time.duration=0.05",
@@ -96,7 +97,7 @@ fn report_html_loads_without_errors_and_draws_the_replay_in_chromium() {
     };
     let dir = tempfile::tempdir().unwrap();
     let run_dir = dir.path().join("run");
-    let (times, frames) = tiny_run(&run_dir);
+    let (times, frames) = tiny_run(&run_dir, "sphere");
     assert!(frames.len() >= 3, "{} frames", frames.len());
     let loaded = scene("sphere", &[]);
     let obstacles = render::obstacle_meshes(&loaded.scene.obstacles, &loaded.base_dir).unwrap();
@@ -174,4 +175,46 @@ fn report_html_loads_without_errors_and_draws_the_replay_in_chromium() {
         )
         .unwrap();
     }
+}
+
+/// The replay of a scene whose sphere moves (`moving_sphere`) draws every frame, the sphere moved
+/// by its motion, without script errors.
+#[test]
+fn a_replay_with_a_moving_obstacle_draws_without_errors_in_chromium() {
+    let Some(browser) = find_chromium() else {
+        if std::env::var("CI").is_ok_and(|v| v == "true") {
+            panic!("no chromium found under CI");
+        }
+        crate::common::say_skipped("no chromium found: moving-obstacle replay not checked");
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let (times, frames) = tiny_run(&dir.path().join("run"), "moving_sphere");
+    let loaded = scene("moving_sphere", &[]);
+    let obstacles = render::obstacle_meshes(&loaded.scene.obstacles, &loaded.base_dir).unwrap();
+    assert!(obstacles.poses(0.05).is_some());
+    let cloth_triangles = frames[0].faces.len();
+    let replays = [ReplayRun {
+        label: "static 5x5".into(),
+        frame_times: times,
+        frames,
+    }];
+    let page = dir.path().join("report.html");
+    write_report_html(&page, "Moving sphere", &[], &replays, &obstacles).unwrap();
+    // Open at the last frame, where the sphere has moved 5 cm.
+    let profile = tempfile::tempdir().unwrap();
+    let at_end = PathBuf::from(format!("{}#t=0.05", page.display()));
+    let dom = chromium(&browser, profile.path(), &at_end, &["--dump-dom"]);
+    let status = dom
+        .split("<pre id=\"status\">")
+        .nth(1)
+        .and_then(|s| s.split("</pre>").next())
+        .unwrap_or_else(|| panic!("no status element in the DOM:\n{dom}"));
+    assert!(status.contains("errors: 0"), "script errors: {status}");
+    let drawn: usize = status
+        .strip_prefix("drawn ")
+        .and_then(|s| s.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("replay not drawn: {status}"));
+    assert!(drawn > cloth_triangles, "{status}");
 }

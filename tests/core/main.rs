@@ -8,6 +8,7 @@ mod consistency;
 mod contact;
 mod golden;
 mod integrators;
+mod moving;
 mod physics_laws;
 mod resolution;
 mod runs;

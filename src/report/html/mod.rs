@@ -11,7 +11,10 @@
 //! A link `report.html#t=0.5` opens the replay at 0.5 s.
 //!
 //! Frame encoding: positions as integers in units of 0.1 mm; a run's face list is stored once per
-//! topology and shared by consecutive frames whose faces are unchanged.
+//! topology and shared by consecutive frames whose faces are unchanged. When an obstacle moves,
+//! each frame also holds every obstacle's rigid motion at its time (`o`: row-major rotation then
+//! translation in m, the identity for still ones), which the replay applies to the obstacle's
+//! mesh as the scene places it.
 //!
 //! For tests, the page reports in `<pre id="status">` and in globals: `window.__replayDrawn`
 //! (true once the first replay frame is drawn), `window.__replayTriangles` (triangles drawn in
@@ -20,7 +23,7 @@
 
 pub mod markdown;
 
-use crate::report::render::FrameMesh;
+use crate::report::render::{FrameMesh, ObstacleMeshes};
 use base64::Engine as _;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -68,6 +71,9 @@ struct FrameJson {
     k: usize,
     /// Positions, flat `x y z`, in quanta.
     p: Vec<i64>,
+    /// Each obstacle's rigid motion at the frame's time, when an obstacle moves.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    o: Option<Vec<[f64; 12]>>,
 }
 
 #[derive(Serialize)]
@@ -108,7 +114,7 @@ fn flat_faces(m: &FrameMesh) -> Vec<u32> {
 fn replay_json(
     title: &str,
     replays: &[ReplayRun],
-    obstacles: &[FrameMesh],
+    obstacles: &ObstacleMeshes,
 ) -> std::io::Result<String> {
     let runs = replays
         .iter()
@@ -117,14 +123,17 @@ fn replay_json(
             let frames = run
                 .frames
                 .iter()
-                .map(|m| {
+                .enumerate()
+                .map(|(i, m)| {
                     let faces = flat_faces(m);
                     if topologies.last() != Some(&faces) {
                         topologies.push(faces);
                     }
+                    let t = run.frame_times.get(i).copied().unwrap_or(0.0);
                     FrameJson {
                         k: topologies.len() - 1,
                         p: quantise(&m.positions),
+                        o: obstacles.poses(t),
                     }
                 })
                 .collect::<Vec<_>>();
@@ -190,7 +199,7 @@ fn embedded_image(path: &Path, alt: &str) -> std::io::Result<String> {
 
 /// Writes the self-contained HTML report to `path`: `title`, a table of contents, the sections
 /// (markdown and embedded images) and, when `replays` is not empty, the 3D replay of those runs
-/// with the `obstacles`.
+/// with the `obstacles` (moving ones where they stand at each frame's time).
 ///
 /// Errors: an image that is not a readable `.png` or `.svg` file, or the report cannot be written.
 pub fn write_report_html(
@@ -198,7 +207,7 @@ pub fn write_report_html(
     title: &str,
     sections: &[HtmlSection],
     replays: &[ReplayRun],
-    obstacles: &[FrameMesh],
+    obstacles: &ObstacleMeshes,
 ) -> std::io::Result<()> {
     use markdown::escape;
     let base = path.parent().unwrap_or(Path::new("."));

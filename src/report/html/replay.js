@@ -118,13 +118,28 @@
 
   var runIndex = 0, frameIndex = 0;
 
+  // Positions (in quanta) moved by a rigid motion m: row-major rotation, then translation (m).
+  function posed(p, m) {
+    var out = new Float64Array(p.length);
+    for (var i = 0; i < p.length; i += 3) {
+      var x = p[i] * Q, y = p[i + 1] * Q, z = p[i + 2] * Q;
+      for (var r = 0; r < 3; r++) {
+        out[i + r] = (m[3 * r] * x + m[3 * r + 1] * y + m[3 * r + 2] * z + m[9 + r]) / Q;
+      }
+    }
+    return out;
+  }
+
   function draw() {
     var run = data.runs[runIndex], frame = run.frames[frameIndex];
     var cam = camera();
     ctx.fillStyle = '#fff';
     ctx.fillRect(0, 0, canvas.width, canvas.height);
     var flat = [], tris = [];
-    obstacles.forEach(function (o) { collect(cam, o.p, o.f, o.flat ? 'flat' : 'solid', o.flat ? flat : tris); });
+    obstacles.forEach(function (o, k) {
+      var p = frame && frame.o ? posed(o.p, frame.o[k]) : o.p;
+      collect(cam, p, o.f, o.flat ? 'flat' : 'solid', o.flat ? flat : tris);
+    });
     if (frame) collect(cam, frame.p, run.topologies[frame.k], 'cloth', tris);
     tris.sort(function (u, v) { return v.d - u.d; });
     var all = flat.concat(tris); // the ground first, under everything

@@ -37,7 +37,7 @@ fn the_report_is_self_contained_and_embeds_its_images() {
         "Sphere & friends",
         &sections,
         &replays,
-        &[square(0.0)],
+        &vec![square(0.0)].into(),
     )
     .unwrap();
     let html = std::fs::read_to_string(&out).unwrap();
@@ -87,9 +87,46 @@ fn images_other_than_png_or_svg_are_errors_and_an_empty_report_works() {
         images: vec![txt],
     }];
     let out = dir.path().join("report.html");
-    let err = write_report_html(&out, "t", &sections, &[], &[]).unwrap_err();
+    let none = ObstacleMeshes::default();
+    let err = write_report_html(&out, "t", &sections, &[], &none).unwrap_err();
     assert_eq!(err.kind(), std::io::ErrorKind::InvalidInput);
-    write_report_html(&out, "empty", &[], &[], &[]).unwrap();
+    write_report_html(&out, "empty", &[], &[], &none).unwrap();
     let html = std::fs::read_to_string(&out).unwrap();
     assert!(!html.contains("id=\"replay-canvas\""));
+}
+
+/// The replay carries each frame's obstacle motions only when an obstacle moves: a linear motion
+/// at 1 m/s along x gives the second frame (t = 0.5 s) a translation of 0.5 m.
+#[test]
+fn the_replay_carries_obstacle_motions_only_when_one_moves() {
+    use crate::scene::{MotionSpec, ObstacleShape, ObstacleSpec};
+    let run = [ReplayRun {
+        label: "r".into(),
+        frame_times: vec![0.0, 0.5],
+        frames: vec![square(0.0), square(0.0)],
+    }];
+    let mut specs = [ObstacleSpec {
+        shape: ObstacleShape::Sphere {
+            center: [0.0; 3],
+            radius: 0.5,
+        },
+        friction: 0.0,
+        restitution: 0.0,
+        motion: None,
+    }];
+    let frames = |specs: &[ObstacleSpec]| {
+        let meshes = crate::report::render::obstacle_meshes(specs, Path::new(".")).unwrap();
+        let json: serde_json::Value =
+            serde_json::from_str(&replay_json("t", &run, &meshes).unwrap()).unwrap();
+        json["runs"][0]["frames"].as_array().unwrap().clone()
+    };
+    assert!(frames(&specs).iter().all(|f| f.get("o").is_none()));
+    specs[0].motion = Some(MotionSpec::Linear {
+        velocity: [1.0, 0.0, 0.0],
+    });
+    let moving = frames(&specs);
+    let o = &moving[1]["o"][0];
+    assert_eq!(o[9].as_f64(), Some(0.5));
+    assert_eq!(o[0].as_f64(), Some(1.0));
+    assert_eq!(moving[0]["o"][0][9].as_f64(), Some(0.0));
 }

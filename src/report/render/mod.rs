@@ -19,7 +19,7 @@ mod picture;
 mod raster;
 mod text;
 
-pub use obstacles::obstacle_meshes;
+pub use obstacles::{obstacle_meshes, ObstacleMeshes};
 pub(crate) use picture::encode_png;
 pub use picture::{render_png, snapshot_grid, SnapshotRow};
 

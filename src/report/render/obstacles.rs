@@ -1,11 +1,74 @@
 //! Drawable triangle meshes of the scene's obstacles: closed meshes with outward
 //! (counter-clockwise seen from outside) faces for the solids, an upward-facing square for the
-//! ground.
+//! ground; moving obstacles are drawn where they stand at a frame's time.
 
 use super::{FrameMesh, RenderError};
+use crate::collision::ObstacleMotion;
 use crate::scene::{ObstacleShape, ObstacleSpec};
+use std::borrow::Cow;
 use std::f32::consts::PI;
 use std::path::Path;
+
+/// The scene's obstacles for drawing: each one's mesh where the scene places it (what this
+/// dereferences to) and its motion (`[obstacles.motion]`), to draw it where it stands at a time.
+#[derive(Clone, Debug, Default)]
+pub struct ObstacleMeshes {
+    meshes: Vec<FrameMesh>,
+    /// One per mesh; `Still` for a still obstacle.
+    motions: Vec<ObstacleMotion>,
+}
+
+impl From<Vec<FrameMesh>> for ObstacleMeshes {
+    /// Still obstacles with these meshes.
+    fn from(meshes: Vec<FrameMesh>) -> Self {
+        let motions = vec![ObstacleMotion::Still; meshes.len()];
+        ObstacleMeshes { meshes, motions }
+    }
+}
+
+impl std::ops::Deref for ObstacleMeshes {
+    type Target = [FrameMesh];
+    fn deref(&self) -> &[FrameMesh] {
+        &self.meshes
+    }
+}
+
+impl ObstacleMeshes {
+    /// Each obstacle's rigid motion at time `t` (s), as [`ObstacleMotion::matrix`] gives it
+    /// (row-major rotation, then translation in m; the identity for a still one); `None` when
+    /// no obstacle moves.
+    pub fn poses(&self, t: f64) -> Option<Vec<[f64; 12]>> {
+        if self.motions.iter().all(ObstacleMotion::is_still) {
+            return None;
+        }
+        Some(self.motions.iter().map(|m| m.matrix(t)).collect())
+    }
+
+    /// The meshes where the obstacles stand at time `t` (s): borrowed when none moves.
+    pub fn at(&self, t: f64) -> Cow<'_, [FrameMesh]> {
+        let Some(poses) = self.poses(t) else {
+            return Cow::Borrowed(&self.meshes);
+        };
+        let moved = self.meshes.iter().zip(&self.motions).zip(poses);
+        Cow::Owned(
+            moved
+                .map(|((mesh, motion), m)| {
+                    let mut mesh = mesh.clone();
+                    if !motion.is_still() {
+                        for p in &mut mesh.positions {
+                            let q = p.map(f64::from);
+                            *p = [0, 1, 2].map(|i| {
+                                let row = &m[3 * i..3 * i + 3];
+                                (row[0] * q[0] + row[1] * q[1] + row[2] * q[2] + m[9 + i]) as f32
+                            });
+                        }
+                    }
+                    mesh
+                })
+                .collect(),
+        )
+    }
+}
 
 /// Segments around a sphere's or cylinder's axis.
 const SEGMENTS: usize = 48;
@@ -21,7 +84,8 @@ const GROUND_MIN_HALF_SIDE: f32 = 1.5;
 /// Ground half side as a multiple of the other obstacles' horizontal reach from the origin.
 const GROUND_REACH_FACTOR: f32 = 1.5;
 
-/// Triangle meshes of the scene's obstacles, in the order of `specs`, for drawing.
+/// Triangle meshes of the scene's obstacles, in the order of `specs`, for drawing, with their
+/// motions ([`ObstacleMeshes::at`] moves them to a time).
 ///
 /// - sphere: a UV sphere of 48 segments and 24 rings;
 /// - cylinder (vertical axis, `center` halfway up): 48 segments with both caps, each triangle
@@ -31,12 +95,26 @@ const GROUND_REACH_FACTOR: f32 = 1.5;
 ///   of half side `max(1.5 m, 1.5 x the largest |x| or |y| reached by the other obstacles)`;
 /// - mesh: the OBJ file (relative to `base_dir`, the scene file's folder), scaled then translated.
 ///
-/// Errors: a non-positive or non-finite size ([`RenderError::Obstacle`]); a mesh file that cannot
-/// be read or parsed ([`RenderError::Io`], [`RenderError::Obj`]).
+/// Errors: a non-positive or non-finite size or an unusable motion ([`RenderError::Obstacle`]);
+/// a mesh file that cannot be read or parsed ([`RenderError::Io`], [`RenderError::Obj`]).
 pub fn obstacle_meshes(
     specs: &[ObstacleSpec],
     base_dir: &Path,
-) -> Result<Vec<FrameMesh>, RenderError> {
+) -> Result<ObstacleMeshes, RenderError> {
+    let mut motions = Vec::with_capacity(specs.len());
+    for (index, spec) in specs.iter().enumerate() {
+        let motion = spec
+            .motion
+            .as_ref()
+            .map_or(ObstacleMotion::Still, Into::into);
+        if let Some(why) = motion.problem() {
+            return Err(RenderError::Obstacle {
+                index,
+                reason: format!("motion: {why}"),
+            });
+        }
+        motions.push(motion);
+    }
     let mut meshes: Vec<Option<FrameMesh>> = Vec::with_capacity(specs.len());
     for (index, spec) in specs.iter().enumerate() {
         let bad = |reason: &str| RenderError::Obstacle {
@@ -98,15 +176,16 @@ pub fn obstacle_meshes(
         .flat_map(|m| m.positions.iter())
         .fold(0f32, |r, p| r.max(p[0].abs()).max(p[1].abs()));
     let half = GROUND_MIN_HALF_SIDE.max(GROUND_REACH_FACTOR * reach);
-    specs
+    let meshes = specs
         .iter()
         .zip(meshes)
         .map(|(spec, mesh)| match (&spec.shape, mesh) {
-            (ObstacleShape::Ground { height }, _) => Ok(ground(*height as f32, half)),
-            (_, Some(m)) => Ok(m),
+            (ObstacleShape::Ground { height }, _) => ground(*height as f32, half),
+            (_, Some(m)) => m,
             (_, None) => unreachable!("every solid obstacle has a mesh"),
         })
-        .collect()
+        .collect();
+    Ok(ObstacleMeshes { meshes, motions })
 }
 
 fn to_f32(a: &[f64; 3]) -> [f32; 3] {

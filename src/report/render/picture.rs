@@ -4,7 +4,7 @@
 use super::camera::{is_flat, union_bounds, Camera};
 use super::raster::{Canvas, Style};
 use super::text::{draw_text, text_width, Image};
-use super::{FrameMesh, RenderError};
+use super::{FrameMesh, ObstacleMeshes, RenderError};
 use std::path::Path;
 
 /// Cloth faces seen from their front (counter-clockwise) side: blue.
@@ -118,12 +118,13 @@ pub fn render_png(
 /// column per time (the first row's times label the columns; a cell whose time, as labelled,
 /// differs from its column's says its own). Each cell is 360 x 270 pixels showing the cloth with its mesh edges
 /// and the obstacles in grey, all cells through the same camera, framed on every frame of every
-/// row and the solid obstacles, so cells compare directly.
+/// row and the solid obstacles (where the scene places them), so cells compare directly. Each
+/// cell draws moving obstacles where they stand at its time.
 ///
 /// Errors: as [`render_png`].
 pub fn snapshot_grid(
     rows: &[SnapshotRow],
-    obstacles: &[FrameMesh],
+    obstacles: &ObstacleMeshes,
     path: &Path,
 ) -> Result<(), RenderError> {
     let columns = rows
@@ -169,7 +170,7 @@ pub fn snapshot_grid(
         );
         for (c, (t, mesh)) in row.frames.iter().enumerate() {
             let x = label_width + c * CELL_WIDTH;
-            let rgb = draw_scene(&camera, mesh, obstacles, CELL_WIDTH, CELL_HEIGHT)?;
+            let rgb = draw_scene(&camera, mesh, &obstacles.at(*t), CELL_WIDTH, CELL_HEIGHT)?;
             img.blit(x, y, CELL_WIDTH, CELL_HEIGHT, &rgb);
             let text = time_label(*t, decimals);
             if column_time(c).is_some_and(|ct| time_label(ct, decimals) != text) {

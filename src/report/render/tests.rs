@@ -11,6 +11,7 @@ fn spec(shape: ObstacleShape) -> ObstacleSpec {
         shape,
         friction: 0.0,
         restitution: 0.0,
+        motion: None,
     }
 }
 
@@ -294,4 +295,63 @@ fn pictures_are_written_atomically() {
     std::fs::create_dir(&folder).unwrap();
     assert!(picture::write_png(&folder, 4, 3, &rgb).is_err());
     assert!(!dir.path().join("folder.png.tmp").exists());
+}
+
+/// A moving obstacle is drawn where its motion takes it at the asked time; still obstacles are
+/// drawn as the scene places them (borrowed, no copy, when nothing moves).
+#[test]
+fn moving_obstacles_are_drawn_where_they_stand_at_a_time() {
+    use crate::scene::MotionSpec;
+    use std::borrow::Cow;
+    let sphere = ObstacleShape::Sphere {
+        center: [0.0, 0.0, 0.5],
+        radius: 0.25,
+    };
+    let table = ObstacleShape::Cylinder {
+        center: [0.0, 0.0, 0.375],
+        radius: 0.35,
+        height: 0.75,
+    };
+    let mut specs = [spec(sphere), spec(table)];
+    let still = obstacle_meshes(&specs, Path::new(".")).unwrap();
+    assert!(still.poses(1.0).is_none());
+    assert!(matches!(still.at(1.0), Cow::Borrowed(_)));
+    specs[0].motion = Some(MotionSpec::Linear {
+        velocity: [1.0, 0.0, -0.5],
+    });
+    specs[1].motion = Some(MotionSpec::Spin {
+        axis_point: [0.0; 3],
+        axis: [0.0, 0.0, 1.0],
+        angular_velocity: std::f64::consts::PI,
+    });
+    let moving = obstacle_meshes(&specs, Path::new(".")).unwrap();
+    let at = moving.at(0.5);
+    for (p, q) in moving[0].positions.iter().zip(&at[0].positions) {
+        let want = [p[0] + 0.5, p[1], p[2] - 0.25];
+        assert!(
+            (0..3).all(|k| (q[k] - want[k]).abs() < 1e-6),
+            "{q:?} vs {want:?}"
+        );
+    }
+    // A quarter turn: (x, y) -> (-y, x).
+    for (p, q) in moving[1].positions.iter().zip(&at[1].positions) {
+        let want = [-p[1], p[0], p[2]];
+        assert!(
+            (0..3).all(|k| (q[k] - want[k]).abs() < 1e-6),
+            "{q:?} vs {want:?}"
+        );
+    }
+    let poses = moving.poses(0.5).unwrap();
+    assert_eq!(poses.len(), 2);
+    assert_eq!(poses[0][9..], [0.5, 0.0, -0.25]);
+    // An unusable motion is an error, not a panic.
+    specs[0].motion = Some(MotionSpec::Spin {
+        axis_point: [0.0; 3],
+        axis: [0.0; 3],
+        angular_velocity: 1.0,
+    });
+    assert!(matches!(
+        obstacle_meshes(&specs, Path::new(".")),
+        Err(RenderError::Obstacle { index: 0, .. })
+    ));
 }

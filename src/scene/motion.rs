@@ -1,0 +1,81 @@
+//! Range checks of an `[obstacles.motion]` table (the rest of the scene: `validate`).
+
+use super::validate::Checker;
+use super::{MotionSpec, SceneError};
+
+/// The `kind` of a motion as written in the scene.
+pub(super) fn kind(m: &MotionSpec) -> &'static str {
+    match m {
+        MotionSpec::Linear { .. } => "\"linear\"",
+        MotionSpec::Spin { .. } => "\"spin\"",
+        MotionSpec::Keyframes { .. } => "\"keyframes\"",
+    }
+}
+
+/// Checks an `[obstacles.motion]` table (`prefix` is `obstacles.N.motion`): finite numbers, a
+/// non-zero spin axis, as many keyframe positions as times (at least one), times strictly
+/// increasing.
+pub(super) fn check(c: &Checker, prefix: &str, m: &MotionSpec) -> Result<(), SceneError> {
+    let key = |k: &str| format!("{prefix}.{k}");
+    match m {
+        MotionSpec::Linear { velocity } => c.finite3(&key("velocity"), *velocity),
+        MotionSpec::Spin {
+            axis_point,
+            axis,
+            angular_velocity,
+        } => {
+            c.finite3(&key("axis_point"), *axis_point)?;
+            c.finite3(&key("axis"), *axis)?;
+            if axis.iter().all(|a| *a == 0.0) {
+                return Err(c.fail(
+                    &key("axis"),
+                    format!("{axis:?}"),
+                    "expected a non-zero direction",
+                ));
+            }
+            if !angular_velocity.is_finite() {
+                return Err(c.fail(
+                    &key("angular_velocity"),
+                    angular_velocity,
+                    "expected a finite angular velocity (rad/s)",
+                ));
+            }
+            Ok(())
+        }
+        MotionSpec::Keyframes { times, positions } => {
+            if times.is_empty() || times.len() != positions.len() {
+                return Err(c.fail(
+                    &key("positions"),
+                    format!("{} positions", positions.len()),
+                    &format!(
+                        "expected one position per time, at least one ({} times)",
+                        times.len()
+                    ),
+                ));
+            }
+            for (k, t) in times.iter().enumerate() {
+                if !t.is_finite() {
+                    return Err(c.fail(
+                        &format!("{}[{k}]", key("times")),
+                        t,
+                        "expected a finite time (s)",
+                    ));
+                }
+                if k > 0 && *t <= times[k - 1] {
+                    return Err(c.fail(
+                        &format!("{}[{k}]", key("times")),
+                        t,
+                        &format!(
+                            "expected times strictly increasing (after {})",
+                            times[k - 1]
+                        ),
+                    ));
+                }
+            }
+            for (k, p) in positions.iter().enumerate() {
+                c.finite3(&format!("{}[{k}]", key("positions")), *p)?;
+            }
+            Ok(())
+        }
+    }
+}
