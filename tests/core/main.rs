@@ -11,6 +11,7 @@ mod integrators;
 mod moving;
 mod physics_laws;
 mod resolution;
+mod run_outputs;
 mod runs;
 mod scene_fuzz;
 mod study;
