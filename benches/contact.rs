@@ -89,7 +89,15 @@ fn contact(c: &mut Criterion) {
                     .respond(&d.x_start, &mut x, &mut v, &d.inv_mass, d.mu, DT)
                     .contacts;
                 n += obstacles
-                    .respond_faces(&d.faces, &mut x, &mut v, &d.inv_mass, d.mu, &mut scratch)
+                    .respond_faces(
+                        &d.faces,
+                        Some(&d.x_start),
+                        &mut x,
+                        &mut v,
+                        &d.inv_mass,
+                        d.mu,
+                        &mut scratch,
+                    )
                     .contacts;
                 black_box((n, x, v))
             })

@@ -260,6 +260,48 @@ fn bounds(tri: [Vector; 3]) -> (Vector, Vector) {
     )
 }
 
+/// The swept test's verdict on a face through `ob` at the step's end (`end`, contact normal
+/// `end_normal`): the obstacle's normal at the start (`start`) when the face was clear of it
+/// then and the normal has turned by more than 45 degrees since (the face passed a feature
+/// thinner than its motion); `None` otherwise (the push answers).
+fn crossed(
+    ob: &Solid,
+    start: [Vector; 3],
+    end: [Vector; 3],
+    end_normal: Vector,
+    margin: Real,
+) -> Option<Vector> {
+    let travel = (0..3)
+        .map(|k| (end[k] - start[k]).length())
+        .fold(0.0, Real::max);
+    let c0 = ob.triangle_contact(start, travel + 2.0 * margin)?;
+    (c0.distance >= 0.0 && c0.normal.dot(end_normal) < std::f64::consts::FRAC_1_SQRT_2)
+        .then_some(c0.normal)
+}
+
+/// Bisection steps of the swept face test: the time of impact to 1/1024 of the step.
+const IMPACT_BISECTIONS: usize = 10;
+
+/// The latest fraction `s` of the step (in [0, 1)) at which the face moving linearly from
+/// `start` (clear of `ob`) to `end` (through it) is still clear of the obstacle's surface.
+fn time_of_impact(ob: &Solid, start: [Vector; 3], end: [Vector; 3], margin: Real) -> Real {
+    let at = |s: Real| -> [Vector; 3] { [0, 1, 2].map(|k| start[k] + (end[k] - start[k]) * s) };
+    let clear = |s: Real| {
+        ob.triangle_contact(at(s), margin)
+            .is_none_or(|c| c.distance >= 0.0)
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..IMPACT_BISECTIONS {
+        let mid = 0.5 * (lo + hi);
+        if clear(mid) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    lo
+}
+
 /// Distance (m) from the origin to the plane triangle `tri`, 0 when it holds the origin (a
 /// degenerate triangle is its edges); outside, also the closest point as `(k, t)`: at parameter
 /// `t` along the edge from vertex `k` to vertex `k + 1`.
@@ -411,9 +453,18 @@ impl Obstacles {
     /// `w_k inv_mass_k / sum_j w_j^2 inv_mass_j` times the change at the point (`w` its
     /// barycentric weights), so the point moves exactly as asked and pinned vertices never move.
     /// Up to [`FACE_SWEEPS`] sweeps, until one moves nothing.
+    ///
+    /// Swept test, with `x_start` (the positions at the step's start): a face clear of an
+    /// obstacle at the start that ends the step through it, with the obstacle's normal turned by
+    /// more than 45 degrees from the start's (a thin feature passed between its vertices: the
+    /// shortest way out is then sideways or through), is not pushed but moved back along its
+    /// vertices' paths to just before the obstacle (the time of impact, by bisection), and loses
+    /// its inward velocity along the start's normal.
+    #[allow(clippy::too_many_arguments)]
     pub fn respond_faces(
         &self,
         faces: &[[usize; 3]],
+        x_start: Option<&[Vec3]>,
         x: &mut [Vec3],
         v: &mut [Vec3],
         inv_mass: &[Real],
@@ -436,7 +487,7 @@ impl Obstacles {
             next.clear();
             for &k in active.iter() {
                 let f = faces[k];
-                if self.resolve_face(f, x, v, inv_mass, cloth_mu, margin) {
+                if self.resolve_face(f, x_start, x, v, inv_mass, cloth_mu, margin) {
                     next.push(k);
                 }
             }
@@ -451,9 +502,11 @@ impl Obstacles {
     }
 
     /// One face against every obstacle but the ground; true when a contact moved it.
+    #[allow(clippy::too_many_arguments)]
     fn resolve_face(
         &self,
         f: [usize; 3],
+        x_start: Option<&[Vec3]>,
         x: &mut [Vec3],
         v: &mut [Vec3],
         inv_mass: &[Real],
@@ -477,6 +530,20 @@ impl Obstacles {
             let Some(c) = ob.triangle_contact(tri, margin - MARGIN_SLACK) else {
                 continue;
             };
+            let mu = 0.5 * (cloth_mu + ob.friction);
+            if let Some(x0) = x_start.filter(|_| c.distance < 0.0) {
+                let start = f.map(|i| to_glam(x0[i]));
+                if let Some(n0) = crossed(ob, start, tri, c.normal, margin) {
+                    let s = time_of_impact(ob, start, tri, margin);
+                    for k in (0..3).filter(|&k| inv[k] > 0.0) {
+                        let p = start[k] + (tri[k] - start[k]) * s;
+                        x[f[k]] = to_na(p);
+                        v[f[k]] = to_na(ob.collide(to_glam(v[f[k]]), p, n0, 0.0, mu));
+                    }
+                    moved = true;
+                    continue;
+                }
+            }
             let w = barycentric(c.point, tri);
             let s: Real = (0..3).map(|k| w[k] * w[k] * inv[k]).sum();
             if s <= 0.0 {
@@ -484,7 +551,6 @@ impl Obstacles {
             }
             let push = c.normal * (margin - c.distance);
             let velocity: Vector = (0..3).map(|k| to_glam(v[f[k]]) * w[k]).sum();
-            let mu = 0.5 * (cloth_mu + ob.friction);
             let dv = ob.collide(velocity, c.point, c.normal, 0.0, mu) - velocity;
             for k in 0..3 {
                 let share = w[k] * inv[k] / s;

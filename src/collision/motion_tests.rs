@@ -304,7 +304,15 @@ fn face_contact_takes_the_velocity_of_a_moving_obstacle() {
     let mut x = vec![v(-3.0, -3.0, 1.0), v(3.0, -3.0, 1.0), v(0.0, 6.0, 1.0)];
     let mut vel = vec![v(0.0, 0.0, 0.0); 3];
     let scratch = &mut FaceScratch::default();
-    let stats = obs.respond_faces(&[[0, 1, 2]], &mut x, &mut vel, &[1.0; 3], 0.0, scratch);
+    let stats = obs.respond_faces(
+        &[[0, 1, 2]],
+        None,
+        &mut x,
+        &mut vel,
+        &[1.0; 3],
+        0.0,
+        scratch,
+    );
     assert!(stats.contacts >= 1);
     for k in 0..3 {
         assert!((x[k].z - (1.1 + obs.margin())).abs() < 1e-9, "{}", x[k]);

@@ -365,7 +365,7 @@ impl Simulation {
                 self.scene.material.mu,
                 dt,
             );
-            stats.contacts += self.face_pass();
+            stats.contacts += self.face_pass(true);
             stats
         };
         self.contact_seen |= contacts.contacts > 0;
@@ -426,7 +426,7 @@ impl Simulation {
             self.stage_times.rebuild_s += secs(clock.elapsed());
             // New faces (a coarsened region over an obstacle) start outside, as new vertices do.
             let clock = Instant::now();
-            self.face_pass();
+            self.face_pass(false);
             self.stage_times.collide_s += secs(clock.elapsed());
         }
         Ok(StepReport {
@@ -438,9 +438,11 @@ impl Simulation {
     }
 
     /// The face contact pass ([`crate::collision::Obstacles::respond_faces`]) when
-    /// `collision.mode = "face"`, over the live faces (listed again after a mesh change);
-    /// returns the face contacts resolved (0 in vertex mode).
-    fn face_pass(&mut self) -> usize {
+    /// `collision.mode = "face"`, over the live faces (listed again after a mesh change), with
+    /// the swept test from the step's start positions when `swept` (after the integration; not
+    /// after an adaptation event, which moves nothing); returns the face contacts resolved (0 in
+    /// vertex mode).
+    fn face_pass(&mut self, swept: bool) -> usize {
         if self.scene.collision.mode != CollisionMode::Face || self.obstacles.is_empty() {
             return 0;
         }
@@ -454,6 +456,7 @@ impl Simulation {
         self.obstacles
             .respond_faces(
                 &self.faces.1,
+                swept.then_some(&self.x_start[..]),
                 &mut cloth.x,
                 &mut cloth.v,
                 cloth.model.inv_mass(),
