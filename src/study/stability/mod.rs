@@ -71,18 +71,12 @@ pub struct Outcome {
     pub finite: bool,
 }
 
-/// Steps `sim` to its duration, measuring energy after every step (and penetration when
 /// World position (m) of the material point at rest coordinates `rest` (m): interpolated in the
 /// face holding it (the nearest vertex's when no face does).
 pub fn material_point(cloth: &Cloth, rest: Vec2) -> Vec3 {
     let mesh = &cloth.mesh;
     match RestLocator::new(mesh).locate(mesh, rest) {
-        Some(b) => {
-            let vs = mesh.face(b.face);
-            (0..3)
-                .map(|k| cloth.x[vs[k].0 as usize] * b.weights[k])
-                .sum()
-        }
+        Some(b) => cloth.world_position(&b),
         None => {
             let nearest = mesh
                 .vertices()
@@ -96,6 +90,7 @@ pub fn material_point(cloth: &Cloth, rest: Vec2) -> Vec3 {
     }
 }
 
+/// Steps `sim` to its duration, measuring energy after every step (and penetration when
 /// `penetration` is set).
 pub fn run(mut sim: Simulation, t_settle: Real, penetration: bool) -> (Outcome, Simulation) {
     let clock = Instant::now();
