@@ -42,15 +42,16 @@ unsafe impl GlobalAlloc for Counting {
 static GLOBAL: Counting = Counting;
 
 /// Steps of every shipped scene allocate nothing after a few warm-up steps (static strategy,
-/// with contacts: every scene with an obstacle starts 2 mm or so above its top here), with
-/// the scene's integrator and with `implicit_euler` under each of its solvers.
+/// with contacts: the sphere's and the round table's cloths start 2 mm or so above their tops
+/// here, the bunny's (vertex contact) through its head), with the scene's integrator and with
+/// `implicit_euler` under each of its solvers.
 #[test]
 fn steady_state_steps_do_not_allocate() {
     COUNTED.with(|c| c.set(true));
     let scenes: [(&str, &[&str]); 4] = [
         ("sphere", &["cloth.center=[0.0, 0.0, 0.252]"]),
         ("round_table", &["cloth.center=[0.0, 0.0, 0.752]"]),
-        ("bunny", &["cloth.center=[0.0, 0.0, 0.4945]"]),
+        ("bunny", &["cloth.center=[0.0, 0.0, 0.35]"]),
         ("hanging", &[]),
     ];
     let implicit = "integrator.name=\"implicit_euler\"";

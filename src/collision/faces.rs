@@ -532,7 +532,8 @@ impl Obstacles {
             };
             let mu = 0.5 * (cloth_mu + ob.friction);
             if let Some(x0) = x_start.filter(|_| c.distance < 0.0) {
-                let start = f.map(|i| to_glam(x0[i]));
+                // The path relative to the obstacle (a moving one carries the start along).
+                let start = f.map(|i| ob.path_start(to_glam(x0[i])));
                 if let Some(n0) = crossed(ob, start, tri, c.normal, margin) {
                     let s = time_of_impact(ob, start, tri, margin);
                     for k in (0..3).filter(|&k| inv[k] > 0.0) {

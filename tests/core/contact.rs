@@ -118,3 +118,27 @@ fn every_strategy_on_every_source_scene_keeps_the_obstacles_out_of_its_faces() {
         }
     }
 }
+
+/// The bunny scene keeps vertex contact (face contact diverges on its ear tips once the cloth is
+/// finer than about 2 cm: docs/model-notes.md, "Collision"), so a fine cloth on it completes.
+#[test]
+fn the_bunny_scene_uses_vertex_contact_and_a_fine_cloth_on_it_completes() {
+    let mut set = settings("vertex");
+    set.retain(|s| {
+        !["collision.mode", "cloth.resolution", "time.duration"]
+            .iter()
+            .any(|key| s.starts_with(key))
+    });
+    set.push("cloth.resolution=49".into());
+    set.push("time.duration=0.5".into());
+    let set: Vec<&str> = set.iter().map(String::as_str).collect();
+    let loaded = scene("bunny", &set);
+    assert_eq!(
+        loaded.scene.collision.mode,
+        adaptcloth::scene::CollisionMode::Vertex
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let (_, summary) = run_into(&loaded, dir.path());
+    assert_eq!(summary.status, RunStatus::Completed, "{}", summary.message);
+    assert!(summary.max_penetration <= MARGIN);
+}
