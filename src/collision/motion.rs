@@ -28,13 +28,20 @@ pub enum ObstacleMotion {
         /// Angular velocity (rad/s).
         angular_velocity: Real,
     },
-    /// Translation offsets (m) at keyframe times (s), linearly interpolated in between and held
-    /// at the first and last offsets outside `[times[0], times[last]]`.
+    /// Poses at keyframe times (s): translation offsets (m) linearly interpolated, rotations
+    /// about `pivot` spherically (a constant angular velocity between keyframes); held at the
+    /// first and last poses outside `[times[0], times[last]]`. The motion at `t` is
+    /// `M(t) p = R(t) (p - pivot) + pivot + d(t)`.
     Keyframes {
         /// Keyframe times (s), strictly increasing, at least one.
         times: Vec<Real>,
         /// Offset from the obstacle as built at each time (m), as many as `times`.
         positions: Vec<[Real; 3]>,
+        /// Rotation at each time as a rotation vector (axis times angle, rad), as many as
+        /// `times`, or none (translations only).
+        rotations: Vec<[Real; 3]>,
+        /// The point the rotations turn about, as built (m).
+        pivot: [Real; 3],
     },
 }
 
@@ -68,7 +75,8 @@ impl ObstacleMotion {
     }
 
     /// Why this motion is not usable, `None` when it is: non-finite numbers, a zero axis,
-    /// keyframe times not strictly increasing, or as many positions as times missing.
+    /// keyframe times not strictly increasing, or as many positions (and rotations, when there
+    /// are any) as times missing.
     pub fn problem(&self) -> Option<String> {
         let finite = |a: &[Real]| a.iter().all(|c| c.is_finite());
         match self {
@@ -89,16 +97,28 @@ impl ObstacleMotion {
                     None
                 }
             }
-            ObstacleMotion::Keyframes { times, positions } => {
-                if times.is_empty() || times.len() != positions.len() {
+            ObstacleMotion::Keyframes {
+                times,
+                positions,
+                rotations,
+                pivot,
+            } => {
+                if times.is_empty()
+                    || times.len() != positions.len()
+                    || !(rotations.is_empty() || rotations.len() == times.len())
+                {
                     Some(format!(
-                        "expected as many positions as times, at least one (got {} times, {} \
-                         positions)",
+                        "expected as many positions (and rotations, if any) as times, at least \
+                         one (got {} times, {} positions, {} rotations)",
                         times.len(),
-                        positions.len()
+                        positions.len(),
+                        rotations.len()
                     ))
-                } else if !(finite(times) && positions.iter().all(|p| finite(p))) {
-                    Some("times and positions must be finite".into())
+                } else if !(finite(times)
+                    && finite(pivot)
+                    && positions.iter().chain(rotations).all(|p| finite(p)))
+                {
+                    Some("times, positions, rotations and pivot must be finite".into())
                 } else if times.windows(2).any(|w| w[1] <= w[0]) {
                     Some(format!("times must be strictly increasing, got {times:?}"))
                 } else {
@@ -126,9 +146,7 @@ impl ObstacleMotion {
                 let r = Rotation::from_axis_angle(vector(*axis).normalize(), angular_velocity * t);
                 Pose::from_parts(c - r * c, r)
             }
-            ObstacleMotion::Keyframes { times, positions } => {
-                Pose::from_translation(keyframe(times, positions, t).0)
-            }
+            ObstacleMotion::Keyframes { .. } => self.keyframe_pose(t).0,
         }
     }
 
@@ -150,11 +168,51 @@ impl ObstacleMotion {
                 v.angular = vector(*axis).normalize() * *angular_velocity;
                 v.center = vector(*axis_point);
             }
-            ObstacleMotion::Keyframes { times, positions } => {
-                v.linear = keyframe(times, positions, t).1;
-            }
+            ObstacleMotion::Keyframes { .. } => v = self.keyframe_pose(t).1,
         }
         v
+    }
+
+    /// A keyframed motion's pose at `t` (s) and its velocity field there (the segment's constant
+    /// rates, zero outside the keyframes); identity and zero for other motions.
+    fn keyframe_pose(&self, t: Real) -> (Pose, RigidVelocity) {
+        let ObstacleMotion::Keyframes {
+            times,
+            positions,
+            rotations,
+            pivot,
+        } = self
+        else {
+            return (Pose::identity(), RigidVelocity::default());
+        };
+        let (offset, linear) = keyframe(times, positions, t);
+        let turn = |k: usize| {
+            rotations.get(k).map_or(Rotation::IDENTITY, |r| {
+                Rotation::from_scaled_axis(vector(*r))
+            })
+        };
+        let (rotation, angular) = match segment(times, t) {
+            Segment::Before => (turn(0), Vector::ZERO),
+            Segment::After => (turn(times.len() - 1), Vector::ZERO),
+            Segment::Inside(k, s) => {
+                // The shortest turn from keyframe k to k + 1, at a constant rate.
+                let step = turn(k + 1) * turn(k).inverse();
+                let step = if step.w < 0.0 { -step } else { step };
+                let rate = step.to_scaled_axis() / (times[k + 1] - times[k]);
+                (
+                    Rotation::from_scaled_axis(step.to_scaled_axis() * s) * turn(k),
+                    rate,
+                )
+            }
+        };
+        let c = vector(*pivot);
+        let pose = Pose::from_parts(c + offset - rotation * c, rotation);
+        let velocity = RigidVelocity {
+            linear,
+            angular,
+            center: c + offset,
+        };
+        (pose, velocity)
     }
 
     /// The rigid motion at time `t` (s) as a row-major 3 x 3 rotation followed by the
@@ -169,21 +227,37 @@ impl ObstacleMotion {
     }
 }
 
+/// Where `t` (s) falls among keyframe times.
+enum Segment {
+    /// Before the first time (or no times).
+    Before,
+    /// At or after the last time.
+    After,
+    /// `times[k] <= t < times[k + 1]`, at fraction `s` of the segment.
+    Inside(usize, Real),
+}
+
+fn segment(times: &[Real], t: Real) -> Segment {
+    match (times.first(), times.last()) {
+        (Some(&first), Some(_)) if t >= first => {}
+        _ => return Segment::Before,
+    }
+    if t >= times[times.len() - 1] {
+        return Segment::After;
+    }
+    let k = times.partition_point(|&s| s <= t) - 1;
+    Segment::Inside(k, (t - times[k]) / (times[k + 1] - times[k]))
+}
+
 /// The interpolated keyframe offset at `t` (m) and the velocity of its segment (m/s).
 fn keyframe(times: &[Real], positions: &[[Real; 3]], t: Real) -> (Vector, Vector) {
-    let (Some(&first), Some(&last)) = (times.first(), times.last()) else {
-        return (Vector::ZERO, Vector::ZERO);
-    };
     let at = |k: usize| positions.get(k).copied().map_or(Vector::ZERO, vector);
-    if t < first {
-        return (at(0), Vector::ZERO);
+    match segment(times, t) {
+        Segment::Before => (at(0), Vector::ZERO),
+        Segment::After => (at(times.len().saturating_sub(1)), Vector::ZERO),
+        Segment::Inside(k, s) => {
+            let slope = (at(k + 1) - at(k)) / (times[k + 1] - times[k]);
+            (at(k) + (at(k + 1) - at(k)) * s, slope)
+        }
     }
-    if t >= last {
-        return (at(times.len() - 1), Vector::ZERO);
-    }
-    // times[k] <= t < times[k + 1]
-    let k = times.partition_point(|&s| s <= t) - 1;
-    let span = times[k + 1] - times[k];
-    let slope = (at(k + 1) - at(k)) / span;
-    (at(k) + slope * (t - times[k]), slope)
 }

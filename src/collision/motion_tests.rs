@@ -26,6 +26,8 @@ fn keyframes_interpolate_linearly_and_hold_outside_their_times() {
     let m = ObstacleMotion::Keyframes {
         times: vec![1.0, 2.0, 4.0],
         positions: vec![[0.0; 3], [1.0, 0.0, 0.0], [1.0, 2.0, 0.0]],
+        rotations: Vec::new(),
+        pivot: [0.0; 3],
     };
     let origin = v(0.0, 0.0, 0.0);
     for (t, want) in [
@@ -43,6 +45,52 @@ fn keyframes_interpolate_linearly_and_hold_outside_their_times() {
     // The matrix form says the same.
     let [.., dx, dy, dz] = m.matrix(3.0);
     assert_eq!([dx, dy, dz], [1.0, 1.0, 0.0]);
+}
+
+#[test]
+fn keyframe_rotations_turn_about_the_moving_pivot_at_a_constant_rate() {
+    // A quarter turn about +z through the pivot (1, 0, 0) between t = 0 and 2 s, while the pivot
+    // moves by (0, 0, 2).
+    let m = ObstacleMotion::Keyframes {
+        times: vec![0.0, 2.0],
+        positions: vec![[0.0; 3], [0.0, 0.0, 2.0]],
+        rotations: vec![[0.0; 3], [0.0, 0.0, PI / 2.0]],
+        pivot: [1.0, 0.0, 0.0],
+    };
+    let p = v(2.0, 0.0, 0.0);
+    assert!((place(&m, 2.0, p) - v(1.0, 1.0, 2.0)).norm() < 1e-12);
+    // Half way: an eighth of a turn, half the offset.
+    let h = (PI / 4.0).cos();
+    assert!((place(&m, 1.0, p) - v(1.0 + h, h, 1.0)).norm() < 1e-12);
+    // Held after the last keyframe, at rest.
+    assert!((place(&m, 5.0, p) - v(1.0, 1.0, 2.0)).norm() < 1e-12);
+    assert_eq!(m.velocity(5.0).at(to_glam(p)), Vector::ZERO);
+    // The velocity field is the pose's time derivative at every point.
+    for (t, q) in [(0.3, p), (1.2, v(-0.5, 2.0, 0.7)), (1.9, v(1.0, 0.0, 0.0))] {
+        let dt = 1e-6;
+        let numeric = (place(&m, t + dt, q) - place(&m, t - dt, q)) / (2.0 * dt);
+        let moved = m.pose(t).transform_point(to_glam(q));
+        let field = to_na(m.velocity(t).at(moved));
+        assert!(
+            (numeric - field).norm() < 1e-6,
+            "t = {t}: {numeric} {field}"
+        );
+    }
+}
+
+#[test]
+fn keyframe_rotations_take_the_short_way_between_keyframes() {
+    // From +170 to -170 degrees about z: 20 degrees through 180, not 340 back through 0.
+    let deg = PI / 180.0;
+    let m = ObstacleMotion::Keyframes {
+        times: vec![0.0, 1.0],
+        positions: vec![[0.0; 3]; 2],
+        rotations: vec![[0.0, 0.0, 170.0 * deg], [0.0, 0.0, -170.0 * deg]],
+        pivot: [0.0; 3],
+    };
+    let w = m.velocity(0.5).angular;
+    assert!((w.length() - 20.0 * deg).abs() < 1e-9, "{w}");
+    assert!((place(&m, 0.5, v(1.0, 0.0, 0.0)) - v(-1.0, 0.0, 0.0)).norm() < 1e-12);
 }
 
 #[test]
@@ -79,14 +127,32 @@ fn unusable_motions_are_named_and_the_ground_cannot_move() {
         ObstacleMotion::Keyframes {
             times: vec![0.0, 0.0],
             positions: vec![[0.0; 3]; 2],
+            rotations: Vec::new(),
+            pivot: [0.0; 3],
         },
         ObstacleMotion::Keyframes {
             times: vec![0.0, 1.0],
             positions: vec![[0.0; 3]],
+            rotations: Vec::new(),
+            pivot: [0.0; 3],
         },
         ObstacleMotion::Keyframes {
             times: Vec::new(),
             positions: Vec::new(),
+            rotations: Vec::new(),
+            pivot: [0.0; 3],
+        },
+        ObstacleMotion::Keyframes {
+            times: vec![0.0, 1.0],
+            positions: vec![[0.0; 3]; 2],
+            rotations: vec![[0.0; 3]],
+            pivot: [0.0; 3],
+        },
+        ObstacleMotion::Keyframes {
+            times: vec![0.0],
+            positions: vec![[0.0; 3]],
+            rotations: Vec::new(),
+            pivot: [Real::INFINITY, 0.0, 0.0],
         },
     ];
     let sphere = ObstacleShape::Sphere {
@@ -257,6 +323,8 @@ fn a_moved_mesh_answers_like_a_mesh_built_where_it_stands() {
         ObstacleMotion::Keyframes {
             times: vec![0.0, 1.0],
             positions: vec![[0.0; 3], shift],
+            rotations: Vec::new(),
+            pivot: [0.0; 3],
         },
         0.0,
     );

@@ -160,9 +160,16 @@ impl From<&MotionSpec> for collision::ObstacleMotion {
                 axis: *axis,
                 angular_velocity: *angular_velocity,
             },
-            MotionSpec::Keyframes { times, positions } => collision::ObstacleMotion::Keyframes {
+            MotionSpec::Keyframes {
+                times,
+                positions,
+                rotations,
+                pivot,
+            } => collision::ObstacleMotion::Keyframes {
                 times: times.clone(),
                 positions: positions.clone(),
+                rotations: rotations.clone(),
+                pivot: *pivot,
             },
         }
     }

@@ -91,6 +91,8 @@ fn motion_error(i: usize, motion: &toml::Value, c: &Checker) -> Option<SceneErro
         MotionSpec::Keyframes {
             times: vec![0.0],
             positions: vec![[0.0; 3]],
+            rotations: vec![[0.0; 3]],
+            pivot: [0.0, 0.0, 1.0],
         },
     ]
     .iter()

@@ -13,8 +13,8 @@ pub(super) fn kind(m: &MotionSpec) -> &'static str {
 }
 
 /// Checks an `[obstacles.motion]` table (`prefix` is `obstacles.N.motion`): finite numbers, a
-/// non-zero spin axis, as many keyframe positions as times (at least one), times strictly
-/// increasing.
+/// non-zero spin axis, as many keyframe positions as times (at least one) and as many rotations
+/// when there are any, times strictly increasing.
 pub(super) fn check(c: &Checker, prefix: &str, m: &MotionSpec) -> Result<(), SceneError> {
     let key = |k: &str| format!("{prefix}.{k}");
     match m {
@@ -42,7 +42,12 @@ pub(super) fn check(c: &Checker, prefix: &str, m: &MotionSpec) -> Result<(), Sce
             }
             Ok(())
         }
-        MotionSpec::Keyframes { times, positions } => {
+        MotionSpec::Keyframes {
+            times,
+            positions,
+            rotations,
+            pivot,
+        } => {
             if times.is_empty() || times.len() != positions.len() {
                 return Err(c.fail(
                     &key("positions"),
@@ -75,7 +80,20 @@ pub(super) fn check(c: &Checker, prefix: &str, m: &MotionSpec) -> Result<(), Sce
             for (k, p) in positions.iter().enumerate() {
                 c.finite3(&format!("{}[{k}]", key("positions")), *p)?;
             }
-            Ok(())
+            if !rotations.is_empty() && rotations.len() != times.len() {
+                return Err(c.fail(
+                    &key("rotations"),
+                    format!("{} rotations", rotations.len()),
+                    &format!(
+                        "expected one rotation per time, or none ({} times)",
+                        times.len()
+                    ),
+                ));
+            }
+            for (k, r) in rotations.iter().enumerate() {
+                c.finite3(&format!("{}[{k}]", key("rotations")), *r)?;
+            }
+            c.finite3(&key("pivot"), *pivot)
         }
     }
 }

@@ -451,14 +451,27 @@ pub enum MotionSpec {
         /// Angular velocity (rad/s).
         angular_velocity: Real,
     },
-    /// Keyframed translations, linearly interpolated; held at the first and last outside the
-    /// keyframe times.
+    /// Keyframed poses: translations linearly interpolated, rotations spherically (at a constant
+    /// rate between keyframes); held at the first and last outside the keyframe times.
     Keyframes {
         /// Keyframe times (s), strictly increasing.
         times: Vec<Real>,
         /// Offset from where the scene puts the obstacle at each time (m), one per time.
         positions: Vec<[Real; 3]>,
+        /// Rotation at each time as a rotation vector (axis times angle, rad, right-handed), one
+        /// per time, about `pivot`; none (the default) for translations only. Not written when
+        /// empty.
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        rotations: Vec<[Real; 3]>,
+        /// The point the rotations turn about, where the scene puts it (m); it moves with the
+        /// offsets. Default the origin; not written when it is.
+        #[serde(default, skip_serializing_if = "is_origin")]
+        pivot: [Real; 3],
     },
+}
+
+fn is_origin(p: &[Real; 3]) -> bool {
+    *p == [0.0; 3]
 }
 
 fn vertical() -> [Real; 3] {

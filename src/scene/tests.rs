@@ -346,16 +346,15 @@ fn obstacle_motion_reads_takes_settings_and_is_absent_from_still_scenes() {
     let keyframes = "[[obstacles]]\nkind = \"box\"\ncenter = [0,0,0]\nhalf_extents = [1,1,1]\n\
                      [obstacles.motion]\nkind = \"keyframes\"\ntimes = [0, 0.5]\n\
                      positions = [[0,0,0], [0.1,0,0]]\n";
-    let loaded = load_text(keyframes, &[]).unwrap();
-    let back = from_text(
-        &resolved_toml(&loaded, "test"),
-        "back.toml",
-        "back",
-        loaded.base_dir.clone(),
-        &[],
-    )
-    .unwrap();
-    assert_eq!(back.scene.obstacles, loaded.scene.obstacles);
+    // And with rotations about a pivot.
+    let turning = format!("{keyframes}rotations = [[0,0,0], [0,0,1.5]]\npivot = [0.5,0,0]\n");
+    for text in [keyframes, turning.as_str()] {
+        let loaded = load_text(text, &[]).unwrap();
+        let resolved = resolved_toml(&loaded, "test");
+        assert_eq!(resolved.contains("rotations"), text.contains("rotations"));
+        let back = from_text(&resolved, "back.toml", "back", loaded.base_dir.clone(), &[]).unwrap();
+        assert_eq!(back.scene.obstacles, loaded.scene.obstacles);
+    }
 }
 
 /// A bad `[obstacles.motion]` is named by its key, its line and what was expected, as any other
@@ -382,6 +381,19 @@ fn bad_motions_are_rejected_with_key_line_and_expectation() {
             "obstacles.0.motion.positions",
             ":8",
             "one position per time",
+        ),
+        (
+            "kind = \"keyframes\"\ntimes = [0, 1]\npositions = [[0,0,0],[0,0,0]]\n\
+             rotations = [[0,0,1]]\n",
+            "obstacles.0.motion.rotations",
+            ":9",
+            "one rotation per time",
+        ),
+        (
+            "kind = \"keyframes\"\ntimes = [0]\npositions = [[0,0,0]]\npivot = [0, inf, 0]\n",
+            "obstacles.0.motion.pivot",
+            ":9",
+            "finite",
         ),
         (
             "kind = \"linear\"\nvelocity = [nan, 0, 0]\n",
