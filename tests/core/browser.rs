@@ -190,31 +190,47 @@ fn a_replay_with_a_moving_obstacle_draws_without_errors_in_chromium() {
     };
     let dir = tempfile::tempdir().unwrap();
     let (times, frames) = tiny_run(&dir.path().join("run"), "moving_sphere");
-    let loaded = scene("moving_sphere", &[]);
-    let obstacles = render::obstacle_meshes(&loaded.scene.obstacles, &loaded.base_dir).unwrap();
-    assert!(obstacles.poses(0.05).is_some());
     let cloth_triangles = frames[0].faces.len();
     let replays = [ReplayRun {
         label: "static 5x5".into(),
         frame_times: times,
         frames,
     }];
-    let page = dir.path().join("report.html");
-    write_report_html(&page, "Moving sphere", &[], &replays, &obstacles).unwrap();
-    // Open at the last frame, where the sphere has moved 5 cm.
-    let profile = tempfile::tempdir().unwrap();
-    let at_end = PathBuf::from(format!("{}#t=0.05", page.display()));
-    let dom = chromium(&browser, profile.path(), &at_end, &["--dump-dom"]);
-    let status = dom
-        .split("<pre id=\"status\">")
-        .nth(1)
-        .and_then(|s| s.split("</pre>").next())
-        .unwrap_or_else(|| panic!("no status element in the DOM:\n{dom}"));
-    assert!(status.contains("errors: 0"), "script errors: {status}");
-    let drawn: usize = status
-        .strip_prefix("drawn ")
-        .and_then(|s| s.split(' ').next())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("replay not drawn: {status}"));
-    assert!(drawn > cloth_triangles, "{status}");
+    // The replay of the run with the scene's sphere (1 m/s: 5 cm by the last frame), and with
+    // one that moves 50 m/s (2.5 m): the camera must frame it where it stands.
+    let view_radius = |settings: &[&str], name: &str| -> f64 {
+        let loaded = scene("moving_sphere", settings);
+        let obstacles = render::obstacle_meshes(&loaded.scene.obstacles, &loaded.base_dir).unwrap();
+        assert!(obstacles.poses(0.05).is_some());
+        let page = dir.path().join(format!("{name}.html"));
+        write_report_html(&page, "Moving sphere", &[], &replays, &obstacles).unwrap();
+        // Open at the last frame.
+        let profile = tempfile::tempdir().unwrap();
+        let at_end = PathBuf::from(format!("{}#t=0.05", page.display()));
+        let dom = chromium(&browser, profile.path(), &at_end, &["--dump-dom"]);
+        let status = dom
+            .split("<pre id=\"status\">")
+            .nth(1)
+            .and_then(|s| s.split("</pre>").next())
+            .unwrap_or_else(|| panic!("no status element in the DOM:\n{dom}"));
+        assert!(status.contains("errors: 0"), "script errors: {status}");
+        let drawn: usize = status
+            .strip_prefix("drawn ")
+            .and_then(|s| s.split(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("replay not drawn: {status}"));
+        assert!(drawn > cloth_triangles, "{status}");
+        status
+            .split("view radius ")
+            .nth(1)
+            .and_then(|s| s.split(' ').next())
+            .and_then(|r| r.parse().ok())
+            .unwrap_or_else(|| panic!("no view radius: {status}"))
+    };
+    let near = view_radius(&[], "near");
+    let far = view_radius(&["obstacles.0.motion.velocity=[50.0, 0.0, 0.0]"], "far");
+    assert!(
+        far > near + 0.5,
+        "view radius {near} m, {far} m with the far sphere"
+    );
 }

@@ -19,7 +19,8 @@
 //! For tests, the page reports in `<pre id="status">` and in globals: `window.__replayDrawn`
 //! (true once the first replay frame is drawn), `window.__replayTriangles` (triangles drawn in
 //! it), `window.__errors` (script errors caught by `window.onerror`); the status reads
-//! `drawn N triangles; errors: E`.
+//! `drawn N triangles; errors: E; view radius R m` (R: the radius of the sphere the camera
+//! frames: every frame of every run and the solid obstacles where they stand in each).
 
 pub mod markdown;
 

@@ -44,9 +44,22 @@
     return { p: o.p, f: o.f, flat: !(b[1][2] - b[0][2] > 1e-4 * span), b: b };
   });
 
-  // One camera for every run: framing all frames of all runs and the solid obstacles.
+  // One camera for every run: framing all frames of all runs and the solid obstacles, moving
+  // ones where they stand in every frame (the corners of their bounding boxes, posed).
   var box = [[Infinity, Infinity, Infinity], [-Infinity, -Infinity, -Infinity]];
-  data.runs.forEach(function (r) { r.frames.forEach(function (f) { bounds(f.p, box); }); });
+  obstacles.forEach(function (o) {
+    var c = [];
+    for (var i = 0; i < 8; i++) {
+      for (var k = 0; k < 3; k++) c.push(o.b[(i >> k) & 1][k] / Q);
+    }
+    o.corners = c;
+  });
+  data.runs.forEach(function (r) {
+    r.frames.forEach(function (f) {
+      bounds(f.p, box);
+      if (f.o) obstacles.forEach(function (o, k) { if (!o.flat) bounds(posed(o.corners, f.o[k]), box); });
+    });
+  });
   obstacles.forEach(function (o) { if (!o.flat) bounds(o.p, box); });
   if (!(box[0][0] <= box[1][0])) box = [[-0.5, -0.5, -0.5], [0.5, 0.5, 0.5]];
   var center = [0, 1, 2].map(function (k) { return 0.5 * (box[0][k] + box[1][k]); });
@@ -163,7 +176,7 @@
     if (!window.__replayDrawn) {
       window.__replayDrawn = true;
       window.__replayTriangles = all.length;
-      report();
+      report('view radius ' + radius.toFixed(3) + ' m');
     }
   }
 

@@ -49,11 +49,11 @@ pub struct SnapshotRow {
 /// but not framed).
 fn camera_for<'a>(
     cloth: impl IntoIterator<Item = &'a FrameMesh>,
-    obstacles: &'a [FrameMesh],
+    obstacles: impl IntoIterator<Item = &'a FrameMesh>,
     width: usize,
     height: usize,
 ) -> Camera {
-    let solid = obstacles.iter().filter(|m| !is_flat(m));
+    let solid = obstacles.into_iter().filter(|m| !is_flat(m));
     let bounds = union_bounds(cloth.into_iter().chain(solid));
     Camera::framing(bounds, width as f32, height as f32)
 }
@@ -118,8 +118,8 @@ pub fn render_png(
 /// column per time (the first row's times label the columns; a cell whose time, as labelled,
 /// differs from its column's says its own). Each cell is 360 x 270 pixels showing the cloth with its mesh edges
 /// and the obstacles in grey, all cells through the same camera, framed on every frame of every
-/// row and the solid obstacles (where the scene places them), so cells compare directly. Each
-/// cell draws moving obstacles where they stand at its time.
+/// row and the solid obstacles (moving ones where they stand in every cell), so cells compare
+/// directly. Each cell draws moving obstacles where they stand at its time.
 ///
 /// Errors: as [`render_png`].
 pub fn snapshot_grid(
@@ -143,7 +143,14 @@ pub fn snapshot_grid(
     let height = HEADER_HEIGHT + rows.len().max(1) * CELL_HEIGHT;
     check_size(width as u32, height as u32)?;
     let cloth = rows.iter().flat_map(|r| r.frames.iter().map(|(_, m)| m));
-    let camera = camera_for(cloth, obstacles, CELL_WIDTH, CELL_HEIGHT);
+    // Moving obstacles are framed where they stand in every cell, still ones where they are.
+    let times = rows.iter().flat_map(|r| r.frames.iter().map(|(t, _)| *t));
+    let posed: Vec<FrameMesh> = match obstacles.poses(0.0) {
+        None => Vec::new(),
+        Some(_) => times.flat_map(|t| obstacles.at(t).into_owned()).collect(),
+    };
+    let framed: &[FrameMesh] = if posed.is_empty() { obstacles } else { &posed };
+    let camera = camera_for(cloth, framed, CELL_WIDTH, CELL_HEIGHT);
     let mut img = Image::new(width, height);
     let column_time = |c: usize| rows.iter().find_map(|r| r.frames.get(c).map(|f| f.0));
     let decimals = time_decimals(rows.iter().flat_map(|r| r.frames.iter().map(|f| f.0)));

@@ -355,3 +355,44 @@ fn moving_obstacles_are_drawn_where_they_stand_at_a_time() {
         Err(RenderError::Obstacle { index: 0, .. })
     ));
 }
+
+/// The snapshot grid frames a moving obstacle where it stands in every cell: a sphere that has
+/// moved 20 m away by the second cell is still in view there.
+#[test]
+fn the_snapshot_grid_keeps_a_far_moving_obstacle_in_view() {
+    use crate::scene::MotionSpec;
+    let mut sphere = spec(ObstacleShape::Sphere {
+        center: [0.0, 0.0, 0.5],
+        radius: 0.25,
+    });
+    sphere.motion = Some(MotionSpec::Linear {
+        velocity: [20.0, 0.0, 0.0],
+    });
+    let obstacles = obstacle_meshes(&[sphere], Path::new(".")).unwrap();
+    let cloth = FrameMesh {
+        positions: vec![[-0.5, -0.5, 0.0], [0.5, -0.5, 0.0], [0.0, 0.5, 0.0]],
+        faces: vec![[0, 1, 2]],
+    };
+    let rows = [SnapshotRow {
+        label: "r".into(),
+        frames: vec![(0.0, cloth.clone()), (1.0, cloth)],
+    }];
+    let dir = tempfile::tempdir().unwrap();
+    let grid = dir.path().join("grid.png");
+    snapshot_grid(&rows, &obstacles, &grid).unwrap();
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&grid).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let (w, h) = (info.width as usize, info.height as usize);
+    // Grey (the obstacle's shading: equal channels, neither white nor the rules' 215) in the
+    // last cell, away from its borders.
+    let grey_in_last_cell = (40..h - 5)
+        .flat_map(|y| (w - 360 + 5..w - 5).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            let p = &buf[3 * (y * w + x)..3 * (y * w + x) + 3];
+            p[0] == p[1] && p[1] == p[2] && p[0] > 40 && p[0] < 210
+        })
+        .count();
+    assert!(grey_in_last_cell > 20, "{grey_in_last_cell} grey pixels");
+}
