@@ -18,12 +18,14 @@
 //! its parents' histories (exact for uniform motion, see the test
 //! `verlet_history_of_a_split_vertex_comes_from_the_transfer`).
 
+mod bdf2;
 mod euler;
 mod implicit_euler;
 mod rk4;
 mod velocity_verlet;
 mod verlet;
 
+pub use bdf2::Bdf2;
 pub use euler::{Euler, EulerKind};
 pub use implicit_euler::ImplicitEuler;
 pub use rk4::Rk4;
@@ -117,6 +119,12 @@ pub trait Integrator: Send {
     fn set_interrupt(&mut self, flag: std::sync::Arc<std::sync::atomic::AtomicBool>) {
         let _ = flag;
     }
+
+    /// Drops any history of earlier steps kept outside `(x, v)`: the mesh changed (an adaptation
+    /// event moved, added or removed slots). Default: nothing to drop (every scheme whose
+    /// history lives in `(x, v)`, the Verlet family included); `bdf2` restarts from a backward
+    /// Euler step.
+    fn forget_history(&mut self) {}
 }
 
 /// One step to take: the state `(x, v)` at time `t` and the step size.
@@ -135,7 +143,7 @@ pub struct Step<'a> {
 type Entry = (&'static str, fn(&IntegratorParams) -> Box<dyn Integrator>);
 
 /// Every integrator, by scene name.
-const REGISTRY: [Entry; 8] = [
+const REGISTRY: [Entry; 9] = [
     ("explicit_euler", |_| {
         Box::new(Euler::new(EulerKind::Explicit))
     }),
@@ -154,6 +162,7 @@ const REGISTRY: [Entry; 8] = [
     }),
     ("rk4", |_| Box::new(Rk4::default())),
     ("implicit_euler", |s| Box::new(ImplicitEuler::new(s))),
+    ("bdf2", |s| Box::new(Bdf2::new(s))),
 ];
 
 /// Names of every available integrator, in registry order.

@@ -420,6 +420,7 @@ impl Simulation {
             });
         }
         if adapt.events > 0 {
+            self.integrator.forget_history();
             let clock = Instant::now();
             self.cloth.refresh();
             self.relocate_tracked();

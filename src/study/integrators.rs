@@ -67,14 +67,14 @@ pub const SOURCE_METHODS: [(&str, &str); 4] = [
     ("Velocity Verlet", "velocity_verlet"),
 ];
 
-/// The integrators run on a single particle: every registered one except `implicit_euler` and
-/// `verlet_relaxation`, which on a free particle without springs are symplectic Euler and
-/// time-corrected Verlet exactly.
+/// The integrators run on a single particle: every registered one except `implicit_euler`,
+/// `bdf2` and `verlet_relaxation`, which on a free particle without springs (no force model) are
+/// symplectic Euler, symplectic Euler and time-corrected Verlet exactly.
 pub fn particle_methods() -> Vec<&'static str> {
     INTEGRATORS
         .iter()
         .copied()
-        .filter(|n| !matches!(*n, "implicit_euler" | "verlet_relaxation"))
+        .filter(|n| !matches!(*n, "implicit_euler" | "bdf2" | "verlet_relaxation"))
         .collect()
 }
 
@@ -409,6 +409,7 @@ mod tests {
             ("explicit_euler", 1.0),
             ("symplectic_euler", 1.0),
             ("implicit_euler", 1.0),
+            ("bdf2", 2.0),
             ("velocity_verlet", 2.0),
             ("verlet", 2.0),
             ("time_corrected_verlet", 2.0),

@@ -104,9 +104,43 @@ impl Integrator for ImplicitEuler {
             return StepStats::default();
         };
         model.forces(x, v, &mut self.f);
-        self.system.build(model, dt, x, v, &self.f);
+        let stats = self.solve_linearised(model, dt, x, v, None);
+        let w = model.inv_mass();
+        for i in 0..n {
+            if w[i] != 0.0 {
+                v[i] += self.dv[i];
+            }
+            x[i] += v[i] * dt;
+        }
+        stats
+    }
+}
+
+impl ImplicitEuler {
+    /// Solves `(M - h df/dv - h² df/dx) dv = h (f + h df/dx w) + extra` for `dv` (m/s, left in
+    /// [`ImplicitEuler::dv`]), the Jacobians taken at positions `x` (m), with `f` (N) the forces
+    /// already in `self.f` and `extra` (N s, per slot; ignored at fixed slots) added to the
+    /// right-hand side. Backward Euler is `h = dt`, `w = v`, no `extra`; [`super::Bdf2`] uses
+    /// it with its own `h`, `w` and `extra`.
+    pub(super) fn solve_linearised(
+        &mut self,
+        model: &crate::physics::ForceModel,
+        h: Real,
+        x: &[Vec3],
+        w: &[Vec3],
+        extra: Option<&[Vec3]>,
+    ) -> StepStats {
+        self.system.build(model, h, x, w, &self.f);
+        if let Some(extra) = extra {
+            let inv = model.inv_mass();
+            for (i, e) in extra.iter().enumerate() {
+                if inv[i] != 0.0 {
+                    self.system.b[i] += e;
+                }
+            }
+        }
         let interrupt = self.interrupt.as_deref();
-        let stats = match self.solver {
+        match self.solver {
             LinearSolver::Cg => self.cg.solve(&self.system, model, interrupt, &mut self.dv),
             LinearSolver::Cholesky => {
                 match self.cholesky.solve(&self.system, model, &mut self.dv) {
@@ -117,14 +151,18 @@ impl Integrator for ImplicitEuler {
                     },
                 }
             }
-        };
-        let w = model.inv_mass();
-        for i in 0..n {
-            if w[i] != 0.0 {
-                v[i] += self.dv[i];
-            }
-            x[i] += v[i] * dt;
         }
-        stats
+    }
+
+    /// The forces buffer (N), sized to `n` slots: filled by the caller before
+    /// [`ImplicitEuler::solve_linearised`].
+    pub(super) fn forces_buffer(&mut self, n: usize) -> &mut Vec<Vec3> {
+        fit(n, [&mut self.f, &mut self.dv]);
+        &mut self.f
+    }
+
+    /// The last solve's `dv` (m/s).
+    pub(super) fn dv(&self) -> &[Vec3] {
+        &self.dv
     }
 }
