@@ -12,7 +12,7 @@
 //! gain (a momentum-neutral scaling, [`restore_kinetic_energy`]).
 
 use super::relax::relax;
-use super::transfer::{apply_edit_with, restore_kinetic_energy, Transfer, TransferOptions};
+use super::transfer::{apply_checked_edit_with, restore_kinetic_energy, Transfer, TransferOptions};
 use crate::cloth::Cloth;
 use crate::math::{Real, Vec3};
 use crate::mesh::{Edit, EditError, EditRecord, Mesh, Origin, Patch, VertexId, VertexRef};
@@ -24,6 +24,11 @@ const ROUNDING: Real = 1e-12;
 /// Allowance of the law as a height (m): a gain up to the patch's weight times this counts as
 /// none (a whole run of edits stays far below the stability suite's `1e-3 M |g| x 1 m`).
 const ALLOWANCE_HEIGHT: Real = 1e-9;
+
+/// The relaxation stops once an iteration lowers the energy by less than this fraction of the
+/// law's allowance (dimensionless): what is left cannot move a gain across the allowance by more
+/// than a rounding's worth.
+const RELAX_RESOLUTION: Real = 1e-3;
 
 /// A gain is payable only up to this fraction of the relative kinetic energy, so rounding
 /// differences between the patch and the cloth cannot make the payment fail (dimensionless).
@@ -82,7 +87,9 @@ pub enum ConservingError {
 /// Measures `edit` on a patch of `cloth`: the faces having a vertex that the edit touches or
 /// interpolates from (so every changed mass, spring and bending element is in it), transferred
 /// with `options` but without pushing new vertices out of obstacles (that is the collision
-/// response, not the edit), then the new vertices relaxed ([`relax`]). The cloth is not changed.
+/// response, not the edit), then the new vertices relaxed ([`relax`], to a resolution of
+/// `1e-3` of the allowance) unless the gain at their interpolated positions is already within the
+/// allowance (then they stay there: the edit needs no payment). The cloth is not changed.
 pub fn energy_trial(
     cloth: &Cloth,
     edit: &Edit,
@@ -117,7 +124,7 @@ pub fn energy_trial(
         obstacles: None,
         ..*options
     };
-    let transfer = apply_edit_with(&mut sub, &local_edit, &local_options)?;
+    let transfer = apply_checked_edit_with(&mut sub, &local_edit, &local_options);
     sub.refresh();
     let new: Vec<VertexId> = transfer
         .record
@@ -125,9 +132,6 @@ pub fn energy_trial(
         .iter()
         .map(|(v, _)| *v)
         .collect();
-    relax(&mut sub, &new);
-    let after = sub.model.energies(&sub.x, &sub.v);
-    let touched = touched(&sub.mesh, &transfer.record);
     let magnitude = before.kinetic.abs() + before.gravity.abs() + before.stretch + before.bending;
     let switches = sub.model.switches();
     let g = if switches.gravity {
@@ -136,16 +140,23 @@ pub fn energy_trial(
         0.0
     };
     let weight = sub.model.total_mass() * g;
+    let tolerance = ALLOWANCE_HEIGHT * weight + ROUNDING * magnitude;
+    let mut gain = sub.model.energies(&sub.x, &sub.v).total() - before.total();
+    if gain > tolerance && !new.is_empty() {
+        relax(&mut sub, &new, RELAX_RESOLUTION * tolerance);
+        gain = sub.model.energies(&sub.x, &sub.v).total() - before.total();
+    }
+    let touched = touched(&sub.mesh, &transfer.record);
     Ok(EnergyTrial {
-        gain: after.total() - before.total(),
+        gain,
         payable: relative_kinetic_energy(&sub, &touched),
-        tolerance: ALLOWANCE_HEIGHT * weight + ROUNDING * magnitude,
+        tolerance,
         positions: new.iter().map(|v| sub.x[v.0 as usize]).collect(),
     })
 }
 
-/// Applies `edit` under the energy law: tried first ([`energy_trial`]); applied as
-/// [`apply_edit_with`] does, but with the new vertices at their relaxed positions (pushed out of
+/// Applies `edit` under the energy law: tried first ([`energy_trial`], which also checks it, once);
+/// applied as [`super::transfer::apply_edit_with`] does, but with the new vertices at their relaxed positions (pushed out of
 /// the obstacles), when it adds no energy; applied with the gain taken from the touched vertices'
 /// relative motion ([`restore_kinetic_energy`], linear momentum unchanged) when that motion holds
 /// enough; refused otherwise, leaving the cloth unchanged.
@@ -161,7 +172,8 @@ pub fn apply_edit_conserving(
             payable: trial.payable,
         });
     }
-    let mut transfer = apply_edit_with(cloth, edit, options)?;
+    // `energy_trial` checked the edit on this mesh, unchanged since.
+    let mut transfer = apply_checked_edit_with(cloth, edit, options);
     for ((v, _), &x) in transfer.record.added_vertices.iter().zip(&trial.positions) {
         cloth.x[v.0 as usize] = options.obstacles.map_or(x, |o| o.push_out(x));
     }

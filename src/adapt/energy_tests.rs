@@ -172,12 +172,77 @@ fn relaxation_lowers_the_potential_and_brings_a_displaced_vertex_back() {
     cloth.x[12] += Vec3::new(0.05, 0.03, 0.02);
     let still = vec![Vec3::zeros(); cloth.x.len()];
     let before = cloth.model.energies(&cloth.x, &still).total();
-    let decrease = relax(&mut cloth, &[v]);
+    let decrease = relax(&mut cloth, &[v], 0.0);
     let after = cloth.model.energies(&cloth.x, &still).total();
     assert!(decrease > 0.0 && (before - after - decrease).abs() <= 1e-12 * before);
     assert!(after <= 1e-6 * before, "{before} -> {after}");
     assert!((cloth.x[12] - home).norm() < 0.01, "{}", cloth.x[12] - home);
     // Held vertices do not move, and relaxing again gains little.
     assert_eq!(cloth.x[11], testing::lifted(&cloth.mesh)[11]);
-    assert!(relax(&mut cloth, &[v]) <= 1e-6 * before);
+    assert!(relax(&mut cloth, &[v], 0.0) <= 1e-6 * before);
+}
+
+#[test]
+fn a_trial_within_the_allowance_keeps_the_interpolated_positions() {
+    // A flat cloth at rest, split at a face's rest centroid: the new springs are at their rest
+    // length, so the edit adds nothing and needs no relaxation.
+    let mesh = union_jack(5, 5, 1.0, 1.0);
+    let x = testing::lifted(&mesh);
+    let mut cloth = testing::cloth(mesh, x);
+    let f = cloth.mesh.faces().nth(6).expect("a face");
+    let edit = centroid_split(&cloth.mesh, f);
+    let corners = cloth.mesh.face(f).map(|v| cloth.x[v.0 as usize]);
+    let interpolated = corners
+        .iter()
+        .fold(Vec3::zeros(), |s, &c| s + c * (1.0 / 3.0));
+    let trial = energy_trial(&cloth, &edit, &options()).expect("valid edit");
+    assert!(
+        trial.gain <= trial.tolerance && trial.payment() == 0.0,
+        "{trial:?}"
+    );
+    assert_eq!(trial.positions, vec![interpolated]);
+    let e0 = total(&cloth);
+    let t = apply_edit_conserving(&mut cloth, &edit, &options()).expect("allowed");
+    cloth.refresh();
+    assert_eq!(
+        cloth.x[t.record.added_vertices[0].0 .0 as usize],
+        interpolated
+    );
+    assert!(
+        total(&cloth) <= e0 + trial.tolerance,
+        "{e0} -> {}",
+        total(&cloth)
+    );
+}
+
+#[test]
+fn relaxation_brings_two_neighbouring_displaced_vertices_back_together() {
+    let forces = Forces {
+        springs: true,
+        bending: true,
+        ..testing::no_forces()
+    };
+    let mesh = union_jack(5, 5, 1.0, 1.0);
+    let x = testing::lifted(&mesh);
+    let mut cloth = Cloth::new(
+        mesh,
+        x.clone(),
+        Vec3::zeros(),
+        &Material::default(),
+        &forces,
+    );
+    cloth.x[12] += Vec3::new(0.05, 0.03, 0.02);
+    cloth.x[13] += Vec3::new(0.04, -0.02, 0.03);
+    let still = vec![Vec3::zeros(); cloth.x.len()];
+    let before = cloth.model.energies(&cloth.x, &still).total();
+    relax(&mut cloth, &[VertexId(13), VertexId(12)], 0.0);
+    let after = cloth.model.energies(&cloth.x, &still).total();
+    assert!(after <= 1e-6 * before, "{before} -> {after}");
+    for i in [12, 13] {
+        assert!(
+            (cloth.x[i] - x[i]).norm() < 0.01,
+            "{i}: {}",
+            cloth.x[i] - x[i]
+        );
+    }
 }

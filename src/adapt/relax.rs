@@ -6,13 +6,14 @@
 use crate::cloth::Cloth;
 use crate::math::{Mat3, Real, Vec3};
 use crate::mesh::VertexId;
-use crate::physics::SpringMode;
+use crate::physics::{ForceModel, SpringMode};
+use nalgebra::{DMatrix, DVector};
 
 /// Most descent iterations of one relaxation.
 const MAX_ITERATIONS: usize = 50;
 
 /// The relaxation stops when an iteration lowers the potential by less than this fraction of its
-/// magnitude (dimensionless).
+/// magnitude, or by less than the caller's resolution (dimensionless).
 const MIN_DECREASE: Real = 1e-12;
 
 /// Smallest step fraction tried before an iteration gives up (dimensionless).
@@ -23,11 +24,13 @@ const MIN_STEP: Real = 1e-4;
 const REGULARISATION: Real = 1e-3;
 
 /// Lowers the elastic energy of `cloth` (stretch and bending, J) over the positions of the movable
-/// `vertices`, every other vertex held; velocities are untouched. Each iteration moves every such
-/// vertex by a Newton step of its own springs, `dx_i = s H_i^-1 f_i`, with `f_i` the elastic force
-/// and `H_i` the Gauss-Newton stiffness block of its stretched springs (N/m), `s` halved until the
-/// energy falls. Never raises the elastic energy. Returns its decrease (J).
-pub fn relax(cloth: &mut Cloth, vertices: &[VertexId]) -> Real {
+/// `vertices`, every other vertex held; velocities are untouched. Each iteration moves them all by
+/// one coupled Gauss-Newton step of their springs, `dx = s H^-1 f`, with `f` the elastic forces
+/// and `H` the Gauss-Newton stiffness of the stretched springs over the moved vertices (N/m, dense:
+/// they are few), `s` halved until the energy falls. Stops when an iteration lowers the energy by
+/// at most `resolution` (J; 0 for the tightest stop) or a `1e-12` fraction of it. Never raises the
+/// elastic energy. Returns its decrease (J).
+pub fn relax(cloth: &mut Cloth, vertices: &[VertexId], resolution: Real) -> Real {
     let inv = cloth.model.inv_mass();
     let mut movable: Vec<usize> = vertices
         .iter()
@@ -41,7 +44,8 @@ pub fn relax(cloth: &mut Cloth, vertices: &[VertexId]) -> Real {
     }
     let n = cloth.x.len();
     let still = vec![Vec3::zeros(); n];
-    let model = &cloth.model;
+    // Only the elements at the moved vertices change: relax over them alone.
+    let model = &cloth.model.around(&movable);
     let potential = |x: &[Vec3]| {
         let e = model.energies(x, &still);
         e.stretch + e.bending
@@ -55,11 +59,16 @@ pub fn relax(cloth: &mut Cloth, vertices: &[VertexId]) -> Real {
     let mut step: Real = 1.0;
     for _ in 0..MAX_ITERATIONS {
         model.internal_forces(&x, &still, &mut force);
-        let blocks = stiffness_blocks(cloth, &x, &movable);
-        for (k, &i) in movable.iter().enumerate() {
-            dx[k] = blocks[k]
-                .try_inverse()
-                .map_or(Vec3::zeros(), |h| h * force[i]);
+        let h = stiffness(model, &x, &movable);
+        let f = DVector::from_iterator(
+            3 * movable.len(),
+            movable.iter().flat_map(|&i| force[i].iter().copied()),
+        );
+        let solved = h.cholesky().map(|c| c.solve(&f));
+        for (k, d) in dx.iter_mut().enumerate() {
+            *d = solved.as_ref().map_or(Vec3::zeros(), |s| {
+                Vec3::new(s[3 * k], s[3 * k + 1], s[3 * k + 2])
+            });
         }
         let lowered = loop {
             for (k, &i) in movable.iter().enumerate() {
@@ -81,7 +90,7 @@ pub fn relax(cloth: &mut Cloth, vertices: &[VertexId]) -> Real {
             x[i] = trial[i];
         }
         step = (2.0 * step).min(1.0);
-        if decrease <= MIN_DECREASE * u.abs().max(Real::MIN_POSITIVE) {
+        if decrease <= resolution.max(MIN_DECREASE * u.abs().max(Real::MIN_POSITIVE)) {
             break;
         }
     }
@@ -91,13 +100,14 @@ pub fn relax(cloth: &mut Cloth, vertices: &[VertexId]) -> Real {
     start - u
 }
 
-/// The Gauss-Newton stiffness block (N/m) of every vertex in `movable` (sorted slots): over its
-/// springs, `k ((1 - L0/l)+ I + (L0/l) d d^T)` for a stretched spring (and a compressed one with
-/// `springs = "both"`), plus the regularisation.
-fn stiffness_blocks(cloth: &Cloth, x: &[Vec3], movable: &[usize]) -> Vec<Mat3> {
-    let springs = cloth.model.springs();
-    let both = cloth.model.material().springs == SpringMode::Both;
-    let mut blocks = vec![Mat3::zeros(); movable.len()];
+/// The Gauss-Newton stiffness (N/m) over the vertices in `movable` (sorted slots), `3n x 3n`:
+/// each spring adds `K = k ((1 - L0/l)+ I + (L0/l) d d^T)` when stretched (and compressed with
+/// `springs = "both"`) to its moved ends' diagonal blocks and `-K` between two moved ends; each
+/// diagonal block is regularised. Symmetric positive definite.
+fn stiffness(model: &ForceModel, x: &[Vec3], movable: &[usize]) -> DMatrix<Real> {
+    let springs = model.springs();
+    let both = model.material().springs == SpringMode::Both;
+    let mut h = DMatrix::zeros(3 * movable.len(), 3 * movable.len());
     let mut total = vec![0.0; movable.len()];
     for j in 0..springs.len() {
         let (a, b) = (springs.a[j] as usize, springs.b[j] as usize);
@@ -117,12 +127,20 @@ fn stiffness_blocks(cloth: &Cloth, x: &[Vec3], movable: &[usize]) -> Vec<Mat3> {
             Mat3::zeros()
         };
         for end in [ka, kb].into_iter().flatten() {
-            blocks[end] += block;
+            let mut diagonal = h.fixed_view_mut::<3, 3>(3 * end, 3 * end);
+            diagonal += block;
             total[end] += k;
         }
+        if let (Some(p), Some(q)) = (ka, kb) {
+            let mut off = h.fixed_view_mut::<3, 3>(3 * p, 3 * q);
+            off -= block;
+            let mut off = h.fixed_view_mut::<3, 3>(3 * q, 3 * p);
+            off -= block;
+        }
     }
-    for (block, t) in blocks.iter_mut().zip(total) {
-        *block += Mat3::identity() * (REGULARISATION * t);
+    for (k, t) in total.into_iter().enumerate() {
+        let mut diagonal = h.fixed_view_mut::<3, 3>(3 * k, 3 * k);
+        diagonal += Mat3::identity() * (REGULARISATION * t);
     }
-    blocks
+    h
 }

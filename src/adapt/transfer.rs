@@ -3,7 +3,7 @@
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::{Real, Vec3};
-use crate::mesh::{Edit, EditError, EditRecord, Origin, VertexId};
+use crate::mesh::{Edit, EditError, EditRecord, Mesh, Origin, VertexId};
 
 /// What [`apply_edit`] did.
 #[derive(Clone, Debug, PartialEq)]
@@ -59,6 +59,29 @@ pub fn apply_edit_with(
     edit: &Edit,
     options: &TransferOptions,
 ) -> Result<Transfer, EditError> {
+    transfer(cloth, edit, options, |mesh, edit| mesh.replace(edit))
+}
+
+/// [`apply_edit_with`] for an edit [`crate::mesh::Mesh::check_edit`] accepted on `cloth.mesh` as
+/// it is now (or in a patch's local ids): not validated again ([`Mesh::replace_checked`]).
+pub(crate) fn apply_checked_edit_with(
+    cloth: &mut Cloth,
+    edit: &Edit,
+    options: &TransferOptions,
+) -> Transfer {
+    let done = transfer(cloth, edit, options, |mesh, edit| {
+        Ok(mesh.replace_checked(edit))
+    });
+    done.unwrap_or_else(|_: EditError| unreachable!("a checked edit is not refused"))
+}
+
+/// The transfer of [`apply_edit_with`], the mesh edited by `replace`.
+fn transfer(
+    cloth: &mut Cloth,
+    edit: &Edit,
+    options: &TransferOptions,
+    replace: impl FnOnce(&mut Mesh, &Edit) -> Result<EditRecord, EditError>,
+) -> Result<Transfer, EditError> {
     let TransferOptions {
         obstacles,
         restore_momentum,
@@ -80,7 +103,7 @@ pub fn apply_edit_with(
         .map(|n| interpolate(cloth, n.origin))
         .collect();
 
-    let record = cloth.mesh.replace(edit)?;
+    let record = replace(&mut cloth.mesh, edit)?;
 
     cloth.refresh_state_len();
     for v in &record.removed_vertices {

@@ -126,6 +126,22 @@ impl Mesh {
     /// for the rules. On error the mesh is unchanged (including its version).
     pub fn replace(&mut self, edit: &Edit) -> Result<EditRecord, EditError> {
         let removed_vertices = self.validate_edit(edit)?;
+        Ok(self.commit(edit, removed_vertices))
+    }
+
+    /// Applies `edit` as [`Mesh::replace`] does, without validating it again: only for an edit
+    /// [`Mesh::check_edit`] accepted on this mesh as it is now (or the same edit in a patch's local
+    /// ids, [`Mesh::patch`], whose faces around the region are the mesh's). Anything else may break
+    /// the mesh.
+    pub(crate) fn replace_checked(&mut self, edit: &Edit) -> EditRecord {
+        let removed: BTreeSet<FaceId> = edit.remove.iter().copied().collect();
+        let region: BTreeSet<VertexId> = removed.iter().flat_map(|&f| self.face(f)).collect();
+        let gone = self.vanishing(edit, &removed, &region);
+        self.commit(edit, gone)
+    }
+
+    /// Applies a validated `edit` whose vertices left without faces are `removed_vertices`.
+    fn commit(&mut self, edit: &Edit, removed_vertices: Vec<VertexId>) -> EditRecord {
         let removed_faces: Vec<(FaceId, [VertexId; 3])> =
             edit.remove.iter().map(|&f| (f, self.face(f))).collect();
         for &f in &edit.remove {
@@ -149,7 +165,7 @@ impl Mesh {
             "edit broke conformity: {:?}",
             self.check()
         );
-        Ok(EditRecord {
+        EditRecord {
             removed_faces,
             added_faces,
             added_vertices: new_ids
@@ -157,7 +173,7 @@ impl Mesh {
                 .zip(edit.new_vertices.iter().map(|nv| nv.origin))
                 .collect(),
             removed_vertices,
-        })
+        }
     }
 
     /// Checks `edit` as [`Mesh::replace`] would, without applying it.
@@ -239,25 +255,37 @@ impl Mesh {
         }
         self.check_tiling(edit, &removed, &added, &pos)?;
         self.check_local_conformity(&removed, &added)?;
-        // Vertices left without faces.
-        let mut in_new: BTreeSet<VertexId> = BTreeSet::new();
-        for keys in &added {
-            for k in keys {
-                if let Key::Old(v) = *k {
-                    in_new.insert(v);
-                }
-            }
+        let gone = self.vanishing(edit, &removed, &region);
+        match gone.iter().find(|&&v| self.is_pinned(v)) {
+            Some(&v) => Err(EditError::RemovesPinned(v)),
+            None => Ok(gone),
         }
-        let mut gone = Vec::new();
-        for &v in &region {
-            if !in_new.contains(&v) && self.vertex_faces(v).iter().all(|f| removed.contains(f)) {
-                if self.is_pinned(v) {
-                    return Err(EditError::RemovesPinned(v));
-                }
-                gone.push(v);
-            }
-        }
-        Ok(gone)
+    }
+
+    /// The vertices of `region` (the `removed` faces' vertices) that `edit` leaves without faces,
+    /// in id order.
+    fn vanishing(
+        &self,
+        edit: &Edit,
+        removed: &BTreeSet<FaceId>,
+        region: &BTreeSet<VertexId>,
+    ) -> Vec<VertexId> {
+        let in_new: BTreeSet<VertexId> = edit
+            .add
+            .iter()
+            .flatten()
+            .filter_map(|r| match *r {
+                VertexRef::Old(v) => Some(v),
+                VertexRef::New(_) => None,
+            })
+            .collect();
+        region
+            .iter()
+            .copied()
+            .filter(|v| {
+                !in_new.contains(v) && self.vertex_faces(*v).iter().all(|f| removed.contains(f))
+            })
+            .collect()
     }
 
     /// The new faces cover exactly the removed region: directed boundaries cancel except along the

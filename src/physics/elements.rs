@@ -63,6 +63,26 @@ impl Springs {
         }
     }
 
+    /// Keeps the springs having an end for which `keep` holds, in order.
+    pub(crate) fn retain_touching(&mut self, keep: impl Fn(u32) -> bool) {
+        let mut n = 0;
+        for j in 0..self.len() {
+            if keep(self.a[j]) || keep(self.b[j]) {
+                self.a[n] = self.a[j];
+                self.b[n] = self.b[j];
+                self.rest_length[n] = self.rest_length[j];
+                self.k[n] = self.k[j];
+                self.kd[n] = self.kd[j];
+                n += 1;
+            }
+        }
+        self.a.truncate(n);
+        self.b.truncate(n);
+        self.rest_length.truncate(n);
+        self.k.truncate(n);
+        self.kd.truncate(n);
+    }
+
     /// Largest stiffness (N/m), 0 when there is no spring.
     pub fn max_stiffness(&self) -> Real {
         self.k.iter().copied().fold(0.0, Real::max)
@@ -93,6 +113,11 @@ impl Bends {
     /// True when there is no bending element.
     pub fn is_empty(&self) -> bool {
         self.v.is_empty()
+    }
+
+    /// Keeps the elements having a vertex for which `keep` holds, in order.
+    pub(crate) fn retain_touching(&mut self, keep: impl Fn(u32) -> bool) {
+        self.v.retain(|e| e.iter().any(|&i| keep(i)));
     }
 
     /// Rebuilds the bending elements of `mesh`, reusing the allocation. Edges with more than two

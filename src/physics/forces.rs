@@ -95,6 +95,19 @@ impl ForceModel {
         self.max_stiffness = self.springs.max_stiffness();
     }
 
+    /// This model with only the springs and bending elements having a vertex among `slots`
+    /// (sorted vertex slots); masses kept. The others' energy and forces do not depend on those
+    /// vertices, so while only they move, its elastic energy (J) changes exactly as the whole
+    /// model's does and its elastic forces on them (N) are the whole model's.
+    pub(crate) fn around(&self, slots: &[usize]) -> ForceModel {
+        let mut m = self.clone();
+        let keep = |i: u32| slots.binary_search(&(i as usize)).is_ok();
+        m.springs.retain_touching(keep);
+        m.bends.retain_touching(keep);
+        m.max_stiffness = m.springs.max_stiffness();
+        m
+    }
+
     /// Recomputes mass, inverse mass and drag coefficient of the listed vertex slots (a slot that
     /// is no longer live gets zeros). The per-vertex arrays are first resized to
     /// `mesh.vertex_slots()` (new slots start at zero). Costs the listed slots only: the mass

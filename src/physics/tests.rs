@@ -642,3 +642,34 @@ fn bending_energy_is_zero_flat_and_grows_with_the_fold() {
         last = e;
     }
 }
+
+#[test]
+fn a_model_around_some_vertices_sees_their_moves_and_forces_as_the_whole_model_does() {
+    let mesh = union_jack(6, 6, 1.0, 1.0);
+    let model = built(&mesh, &Material::default(), &Forces::default());
+    let slots = [14, 15, 21];
+    let local = model.around(&slots);
+    assert!(local.springs().len() < model.springs().len());
+    let (x, v) = random_state(&mesh, 3, 0.06);
+    let mut moved = x.clone();
+    for &i in &slots {
+        moved[i] += Vec3::new(0.01, -0.02, 0.015);
+    }
+    let elastic = |m: &ForceModel, x: &[Vec3]| {
+        let e = m.energies(x, &v);
+        e.stretch + e.bending
+    };
+    let whole = elastic(&model, &moved) - elastic(&model, &x);
+    let part = elastic(&local, &moved) - elastic(&local, &x);
+    assert!(whole.abs() > 0.0);
+    assert!(
+        (whole - part).abs() <= 1e-12 * elastic(&model, &x),
+        "{whole} vs {part}"
+    );
+    let (mut f, mut g) = (vec![Vec3::zeros(); x.len()], vec![Vec3::zeros(); x.len()]);
+    model.internal_forces(&moved, &v, &mut f);
+    local.internal_forces(&moved, &v, &mut g);
+    for &i in &slots {
+        assert!((f[i] - g[i]).norm() <= 1e-12 * f[i].norm(), "{i}");
+    }
+}
