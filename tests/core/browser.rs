@@ -57,6 +57,23 @@ fn chromium(browser: &Path, profile: &Path, page: &Path, extra: &[&str]) -> Stri
 
 /// Frames of a 5x5 run of the embedded scene `name` for 0.05 s (a frame every 0.01 s) with
 /// their times.
+/// The replay's status line in a dumped DOM and the triangles it drew; fails on a missing
+/// status, an undrawn replay or any script error.
+fn replay_status(dom: &str) -> (String, usize) {
+    let status = dom
+        .split("<pre id=\"status\">")
+        .nth(1)
+        .and_then(|s| s.split("</pre>").next())
+        .unwrap_or_else(|| panic!("no status element in the DOM:\n{dom}"));
+    assert!(status.contains("errors: 0"), "script errors: {status}");
+    let drawn: usize = status
+        .strip_prefix("drawn ")
+        .and_then(|s| s.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("replay not drawn: {status}"));
+    (status.to_string(), drawn)
+}
+
 fn tiny_run(dir: &Path, name: &str) -> (Vec<f64>, Vec<FrameMesh>) {
     let loaded = scene(
         name,
@@ -140,17 +157,7 @@ fn report_html_loads_without_errors_and_draws_the_replay_in_chromium() {
 
     let profile = tempfile::tempdir().unwrap();
     let dom = chromium(&browser, profile.path(), &page, &["--dump-dom"]);
-    let status = dom
-        .split("<pre id=\"status\">")
-        .nth(1)
-        .and_then(|s| s.split("</pre>").next())
-        .unwrap_or_else(|| panic!("no status element in the DOM:\n{dom}"));
-    assert!(status.contains("errors: 0"), "script errors: {status}");
-    let drawn: usize = status
-        .strip_prefix("drawn ")
-        .and_then(|s| s.split(' ').next())
-        .and_then(|n| n.parse().ok())
-        .unwrap_or_else(|| panic!("replay not drawn: {status}"));
+    let (status, drawn) = replay_status(&dom);
     // The cloth and at least the visible half of the sphere.
     assert!(drawn > cloth_triangles, "{status}");
     assert!(dom.contains("<title>Browser test report</title>"));
@@ -208,17 +215,7 @@ fn a_replay_with_a_moving_obstacle_draws_without_errors_in_chromium() {
         let profile = tempfile::tempdir().unwrap();
         let at_end = PathBuf::from(format!("{}#t=0.05", page.display()));
         let dom = chromium(&browser, profile.path(), &at_end, &["--dump-dom"]);
-        let status = dom
-            .split("<pre id=\"status\">")
-            .nth(1)
-            .and_then(|s| s.split("</pre>").next())
-            .unwrap_or_else(|| panic!("no status element in the DOM:\n{dom}"));
-        assert!(status.contains("errors: 0"), "script errors: {status}");
-        let drawn: usize = status
-            .strip_prefix("drawn ")
-            .and_then(|s| s.split(' ').next())
-            .and_then(|n| n.parse().ok())
-            .unwrap_or_else(|| panic!("replay not drawn: {status}"));
+        let (status, drawn) = replay_status(&dom);
         assert!(drawn > cloth_triangles, "{status}");
         status
             .split("view radius ")
