@@ -437,6 +437,46 @@ fn a_study_label_cannot_write_outside_the_output_folder() {
     }
 }
 
+/// A study's `name` names its default output folder `out/study-NAME`: `../../../../escaped` left
+/// the working folder (the hostile sweep).
+#[test]
+fn a_study_name_cannot_write_outside_the_output_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let work = dir.path().join("a/b/work");
+    std::fs::create_dir_all(&work).unwrap();
+    std::fs::write(
+        work.join("s.toml"),
+        "name = \"../../../../escaped\"\nscenes = [\"sphere\"]\nduration = 0.01\n\
+         [reference]\nresolution = 5\nfloor = 3\nsamples = 8\n\
+         [[runs]]\nstrategy = \"static\"\nresolution = 3\n",
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .current_dir(&work)
+        .args(["study", "s.toml", "--quiet"])
+        .output()
+        .expect("binary runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let names = |p: &std::path::Path| -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(p)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        v.sort();
+        v
+    };
+    assert_eq!(names(&dir.path().join("a/b")), ["work"]);
+    assert_eq!(names(&dir.path().join("a")), ["b"]);
+    assert_eq!(names(&work), ["out", "s.toml"]);
+    assert!(work
+        .join("out/study-_.._.._.._escaped/sphere/report.html")
+        .is_file());
+}
+
 /// A file where the run's `frames/` folder goes is named in the error, not only the folder.
 #[test]
 fn a_file_in_place_of_the_frames_folder_is_named() {

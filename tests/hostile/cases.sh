@@ -216,6 +216,7 @@ for f in ok unknown badkey nan beta sweep_type sweep_empty norun noscene dev sce
     c "study $f" -- study "@IN@/st_$f.toml" --quiet
 done
 c "study sweep of names with slashes" -- study "@IN@/st_sweep_names.toml" --quiet --out o
+c "study name ../../../../escaped (default out)" setup='sed "s|^name = .*|name = \"../../../../escaped\"|" "$IN/st_name__tmp_x.toml" > s.toml' -- study s.toml --quiet
 c "study missing file" -- study "@IN@/nope.toml"
 c "study a scene file" -- study "@IN@/base.toml" --quiet
 c "study --jobs 0" -- study "@IN@/st_ok.toml" --quiet --jobs 0
