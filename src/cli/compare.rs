@@ -147,7 +147,7 @@ pub fn study(args: StudyArgs) -> Result<(), CliError> {
     let root = args
         .out
         .clone()
-        .unwrap_or_else(|| PathBuf::from("out").join(format!("study-{}", definition.name)));
+        .unwrap_or_else(|| default_study_out(&definition.name));
     let plans = study::plan(&definition, |name| root.join(name), args.execution.force)?;
     let execution = Execution::new(&args.execution, &args.cache, args.force_reference)?;
     if args.references_only {
@@ -303,4 +303,10 @@ pub fn report(args: ReportArgs) -> Result<(), CliError> {
         done.push((dir.clone(), comparison));
     }
     write_docs(args.docs.write_docs, &done, &args.docs_command, notes)
+}
+
+/// `out/study-NAME`, NAME made one plain folder name: a study `name = "../../../../x"` gave
+/// `out/study-../../../../x`, which leaves the working folder.
+fn default_study_out(name: &str) -> PathBuf {
+    PathBuf::from("out").join(format!("study-{}", crate::io::file_safe(name)))
 }

@@ -35,7 +35,7 @@ pub fn write_atomic_unsynced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 fn write_through_temp(path: &Path, bytes: &[u8], sync: bool) -> std::io::Result<()> {
     refuse_special(path)?;
     let tmp = temp_path(path);
-    let written = std::fs::File::create(&tmp).and_then(|mut f| {
+    let written = create_regular(&tmp).and_then(|mut f| {
         f.write_all(bytes)?;
         if sync {
             f.sync_all()
@@ -71,6 +71,14 @@ fn refuse_special(path: &Path) -> std::io::Result<()> {
     }
 }
 
+/// Creates (or truncates) the regular file `path` for writing. An existing folder, device, pipe
+/// or socket there is refused ([`refuse_special`]) before it is opened: opening a pipe with no
+/// reader waits for one for ever, and no signal ends that wait.
+pub(crate) fn create_regular(path: &Path) -> std::io::Result<std::fs::File> {
+    refuse_special(path)?;
+    std::fs::File::create(path)
+}
+
 /// The text of the regular file `path`. A folder, a device, a pipe or a socket is refused with
 /// an `InvalidInput` error saying so, before reading: `/dev/zero` would never end.
 pub fn read_text(path: &Path) -> std::io::Result<String> {
@@ -95,6 +103,28 @@ pub fn temp_path(path: &Path) -> PathBuf {
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".tmp");
     PathBuf::from(tmp)
+}
+
+/// `label` as one folder name that keeps its meaning: a path separator (`/`, `\\`), a comma (the
+/// comparison table is comma-separated) and control characters become `_`; a label that would
+/// still name the folder itself or its parent (`.`, `..`, empty) becomes `_`. A run's label is
+/// its folder under `runs/`: a study `label = "/tmp/x"` wrote `/tmp/x-5-rk4`.
+pub fn folder_label(label: &str) -> String {
+    let mapped: String = label
+        .chars()
+        .map(|c| {
+            if matches!(c, '/' | '\\' | ',') || c.is_control() {
+                '_'
+            } else {
+                c
+            }
+        })
+        .collect();
+    if matches!(mapped.as_str(), "" | "." | "..") {
+        "_".into()
+    } else {
+        mapped
+    }
 }
 
 /// `name` made safe as one file-name component: characters other than ASCII letters, digits,
@@ -137,7 +167,49 @@ pub fn read_numeric_csv(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f6
 
 #[cfg(test)]
 mod tests {
-    use super::{file_safe, write_atomic};
+    use super::{file_safe, temp_path, write_atomic, MetricsWriter};
+    use std::path::Path;
+    use std::time::Duration;
+
+    /// Runs `write` in a thread and returns its error message, failing the test when it has not
+    /// returned within 5 s (it waits on a pipe: a reader is then opened to release it).
+    fn error_within_seconds(
+        pipe: &Path,
+        write: impl FnOnce() -> std::io::Result<()> + Send + 'static,
+    ) -> String {
+        let (send, receive) = std::sync::mpsc::channel();
+        std::thread::spawn(move || send.send(write().map_err(|e| e.to_string())));
+        match receive.recv_timeout(Duration::from_secs(5)) {
+            Ok(result) => result.expect_err("writing over a pipe succeeded"),
+            Err(_) => {
+                let _ = std::fs::File::open(pipe);
+                panic!("writing waited on the pipe {} for 5 s", pipe.display());
+            }
+        }
+    }
+
+    /// A pipe left where a run writes (the metrics table, an atomic write's temporary file) is
+    /// refused with a message; opening it waited for a reader for ever, through Ctrl-C (the
+    /// hostile sweep's `o/metrics.csv.partial` FIFO case, killed after ignoring SIGINT).
+    #[test]
+    fn a_pipe_where_a_run_writes_is_refused_not_waited_on() {
+        let dir = tempfile::tempdir().unwrap();
+        let partial = dir.path().join("metrics.csv.partial");
+        let summary = dir.path().join("summary.json");
+        for pipe in [&partial, &temp_path(&summary)] {
+            let made = std::process::Command::new("mkfifo").arg(pipe).status();
+            if !made.is_ok_and(|s| s.success()) {
+                return; // no mkfifo: nothing to test
+            }
+        }
+        let out = dir.path().to_path_buf();
+        let err = error_within_seconds(&partial, move || {
+            MetricsWriter::create(&out, &[]).map(|_| ())
+        });
+        assert!(err.contains("a device, pipe or socket"), "{err}");
+        let err = error_within_seconds(&temp_path(&summary), move || write_atomic(&summary, b"{}"));
+        assert!(err.contains("a device, pipe or socket"), "{err}");
+    }
 
     /// An atomic write never replaces a device or a pipe (a rename over `/dev/full` as root once
     /// turned it into a plain file for every program on the machine); a pipe stands in for the

@@ -94,6 +94,20 @@ impl Checker<'_> {
         }
     }
 
+    /// An obstacle's size (m): positive and at most `MAX_LENGTH`, as the cloth's sides (a box
+    /// of half extent 1e308 passed `positive` and panicked in the contact query).
+    fn length(&self, key: &str, v: Real) -> Result<(), SceneError> {
+        if v > 0.0 && v <= MAX_LENGTH {
+            Ok(())
+        } else {
+            Err(self.fail(
+                key,
+                v,
+                &format!("expected a length in (0, {MAX_LENGTH:e}] m"),
+            ))
+        }
+    }
+
     fn non_negative(&self, key: &str, v: Real) -> Result<(), SceneError> {
         if v.is_finite() && v >= 0.0 {
             Ok(())
@@ -345,7 +359,7 @@ pub(super) fn validate(
             }
             ObstacleShape::Sphere { center, radius } => {
                 c.finite3(&key("center"), *center)?;
-                c.positive(&key("radius"), *radius)?;
+                c.length(&key("radius"), *radius)?;
             }
             ObstacleShape::Cylinder {
                 center,
@@ -353,8 +367,8 @@ pub(super) fn validate(
                 height,
             } => {
                 c.finite3(&key("center"), *center)?;
-                c.positive(&key("radius"), *radius)?;
-                c.positive(&key("height"), *height)?;
+                c.length(&key("radius"), *radius)?;
+                c.length(&key("height"), *height)?;
             }
             ObstacleShape::Box {
                 center,
@@ -362,7 +376,7 @@ pub(super) fn validate(
             } => {
                 c.finite3(&key("center"), *center)?;
                 for h in half_extents {
-                    c.positive(&key("half_extents"), *h)?;
+                    c.length(&key("half_extents"), *h)?;
                 }
             }
             ObstacleShape::Mesh {

@@ -300,7 +300,12 @@ fn write_failure(sim: &Simulation, path: &Path, e: std::io::Error) -> (RunStatus
 /// Any other file in the folder (a user's notes, `frame_final.obj`) is kept.
 fn clear_previous_run(out_dir: &Path) -> std::io::Result<()> {
     let frames_dir = out_dir.join("frames");
-    std::fs::create_dir_all(&frames_dir)?;
+    std::fs::create_dir_all(&frames_dir).map_err(|e| {
+        std::io::Error::new(
+            e.kind(),
+            format!("cannot create the folder {}: {e}", frames_dir.display()),
+        )
+    })?;
     for entry in std::fs::read_dir(&frames_dir)? {
         let entry = entry?;
         let name = entry.file_name();

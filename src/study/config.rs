@@ -32,12 +32,13 @@ pub struct RunConfig {
 }
 
 impl RunConfig {
-    /// `base-resolution-integrator[suffix]`, e.g. `static-17-rk4` (also the run's folder name).
+    /// `base-resolution-integrator[suffix]`, e.g. `static-17-rk4` (also the run's folder name,
+    /// so made a plain folder name: [`crate::io::folder_label`]).
     pub fn label(&self) -> String {
-        format!(
+        crate::io::folder_label(&format!(
             "{}-{}-{}{}",
             self.base, self.resolution, self.integrator, self.suffix
-        )
+        ))
     }
 
     /// The scene of this configuration: `base` with its grid, strategy, integrator and own

@@ -176,7 +176,7 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<(), StudyError> {
 
 /// Reads `comparison.csv`; columns are found by name, so their order in the file is free.
 pub fn read_csv(path: &Path) -> Result<Vec<Row>, StudyError> {
-    let text = std::fs::read_to_string(path).map_err(super::io_err(path))?;
+    let text = crate::io::read_text(path).map_err(super::io_err(path))?;
     let bad = |why: String| StudyError::Merge(format!("{}: {why}", path.display()));
     let mut lines = text.lines();
     let header: Vec<&str> = lines
@@ -199,7 +199,16 @@ pub fn read_csv(path: &Path) -> Result<Vec<Row>, StudyError> {
                 .and_then(|k| cells.get(k).copied())
                 .ok_or_else(|| "short row".to_string())
         };
-        rows.push(Row::from_cells(cell).map_err(|e| bad(format!("line {}: {e}", n + 2)))?);
+        let row = Row::from_cells(cell).map_err(|e| bad(format!("line {}: {e}", n + 2)))?;
+        // The label names the run's folder, which merge and report read and write.
+        if crate::io::folder_label(&row.label) != row.label {
+            return Err(bad(format!(
+                "line {}: label `{}` is not a plain folder name",
+                n + 2,
+                row.label
+            )));
+        }
+        rows.push(row);
     }
     Ok(rows)
 }
@@ -289,7 +298,7 @@ pub fn write_tables(out: &Path, c: &Comparison) -> Result<(), StudyError> {
 /// Reads a comparison folder (`comparison.json` and `comparison.csv`).
 pub fn read_comparison(dir: &Path) -> Result<Comparison, StudyError> {
     let path = dir.join("comparison.json");
-    let text = std::fs::read_to_string(&path).map_err(super::io_err(&path))?;
+    let text = crate::io::read_text(&path).map_err(super::io_err(&path))?;
     let manifest: Manifest = serde_json::from_str(&text)
         .map_err(|e| StudyError::Merge(format!("{}: {e}", path.display())))?;
     let rows = read_csv(&dir.join("comparison.csv"))?;
@@ -409,5 +418,42 @@ pub(crate) mod tests {
         assert!(e.contains("line 2: steps: `many`"), "{e}");
         std::fs::write(&p, "scene,label\nx,y\n").unwrap();
         assert!(read_csv(&p).unwrap_err().to_string().contains("no column"));
+    }
+
+    /// A label read back names a folder that merge copies into and report reads: one that leaves
+    /// `runs/` is refused (the hostile sweep: a comparison table written by hand).
+    #[test]
+    fn a_label_that_leaves_the_runs_folder_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("c.csv");
+        for label in ["../../escaped", "/tmp/x", ".."] {
+            write_csv(&p, &[row("a"), row(label)]).unwrap();
+            let e = read_csv(&p).unwrap_err().to_string();
+            assert!(
+                e.contains("line 3: label") && e.contains("not a plain folder name"),
+                "{e}"
+            );
+        }
+        write_csv(&p, &[row("bisect48-5-rk4-criteria=\"sizing\"")]).unwrap();
+        assert_eq!(read_csv(&p).unwrap().len(), 1);
+    }
+
+    /// A pipe in place of the table is refused, not read (it would wait for a writer for ever).
+    #[test]
+    fn a_pipe_in_place_of_the_table_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("comparison.csv");
+        let made = std::process::Command::new("mkfifo").arg(&p).status();
+        if made.is_ok_and(|s| s.success()) {
+            let (send, receive) = std::sync::mpsc::channel();
+            let q = p.clone();
+            std::thread::spawn(move || send.send(read_csv(&q).map(|_| ())));
+            let got = receive.recv_timeout(std::time::Duration::from_secs(5));
+            if got.is_err() {
+                let _ = std::fs::write(&p, ""); // release the reader
+            }
+            let e = got.expect("reading the pipe waited 5 s").unwrap_err();
+            assert!(e.to_string().contains("not a regular file"), "{e}");
+        }
     }
 }
