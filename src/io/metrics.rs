@@ -83,7 +83,7 @@ impl MetricsWriter {
         let done = out_dir.join("metrics.csv");
         let partial = out_dir.join("metrics.csv.partial");
         let _ = std::fs::remove_file(&done);
-        let mut out = BufWriter::new(super::create_regular(&partial)?);
+        let mut out = BufWriter::new(super::create_for_writing(&partial)?);
         write!(
             out,
             "step,t,dt,vertices,edges,faces,min_mass,max_stiffness,total_mass,linear_momentum,\

@@ -35,7 +35,7 @@ pub fn write_atomic_unsynced(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 fn write_through_temp(path: &Path, bytes: &[u8], sync: bool) -> std::io::Result<()> {
     refuse_special(path)?;
     let tmp = temp_path(path);
-    let written = create_regular(&tmp).and_then(|mut f| {
+    let written = create_for_writing(&tmp).and_then(|mut f| {
         f.write_all(bytes)?;
         if sync {
             f.sync_all()
@@ -71,11 +71,25 @@ fn refuse_special(path: &Path) -> std::io::Result<()> {
     }
 }
 
-/// Creates (or truncates) the regular file `path` for writing. An existing folder, device, pipe
-/// or socket there is refused ([`refuse_special`]) before it is opened: opening a pipe with no
-/// reader waits for one for ever, and no signal ends that wait.
-pub(crate) fn create_regular(path: &Path) -> std::io::Result<std::fs::File> {
-    refuse_special(path)?;
+/// Creates (or truncates) `path` for writing. An existing pipe or socket there (symbolic links
+/// followed) is refused before it is opened: opening a pipe with no reader waits for one for
+/// ever, and no signal ends that wait. A device is opened as asked (a link to `/dev/full` is how
+/// the tests fill the disk).
+pub(crate) fn create_for_writing(path: &Path) -> std::io::Result<std::fs::File> {
+    #[cfg(unix)]
+    if let Ok(meta) = std::fs::metadata(path) {
+        use std::os::unix::fs::FileTypeExt;
+        let kind = meta.file_type();
+        if kind.is_fifo() || kind.is_socket() {
+            return Err(std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!(
+                    "{} is a pipe or socket, not a file to write",
+                    path.display()
+                ),
+            ));
+        }
+    }
     std::fs::File::create(path)
 }
 
@@ -206,9 +220,9 @@ mod tests {
         let err = error_within_seconds(&partial, move || {
             MetricsWriter::create(&out, &[]).map(|_| ())
         });
-        assert!(err.contains("a device, pipe or socket"), "{err}");
+        assert!(err.contains("is a pipe or socket"), "{err}");
         let err = error_within_seconds(&temp_path(&summary), move || write_atomic(&summary, b"{}"));
-        assert!(err.contains("a device, pipe or socket"), "{err}");
+        assert!(err.contains("is a pipe or socket"), "{err}");
     }
 
     /// An atomic write never replaces a device or a pipe (a rename over `/dev/full` as root once

@@ -2,6 +2,7 @@
 
 use super::validate::Checker;
 use super::{MotionSpec, SceneError};
+use crate::math::Real;
 
 /// The `kind` of a motion as written in the scene.
 pub(super) fn kind(m: &MotionSpec) -> &'static str {
@@ -26,11 +27,14 @@ pub(super) fn check(c: &Checker, prefix: &str, m: &MotionSpec) -> Result<(), Sce
         } => {
             c.finite3(&key("axis_point"), *axis_point)?;
             c.finite3(&key("axis"), *axis)?;
-            if axis.iter().all(|a| *a == 0.0) {
+            // Normalisable, as the motion needs it: [1e308; 3] (length overflows) and [1e-320,
+            // 0, 0] (squares underflow) were refused later as "axis must not be zero".
+            let length = axis.iter().map(|a| a * a).sum::<Real>().sqrt();
+            if !(length > 0.0 && length.is_finite() && (1.0 / length).is_finite()) {
                 return Err(c.fail(
                     &key("axis"),
                     format!("{axis:?}"),
-                    "expected a non-zero direction",
+                    "expected a non-zero direction of finite length, e.g. [0, 0, 1]",
                 ));
             }
             if !angular_velocity.is_finite() {

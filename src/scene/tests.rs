@@ -370,6 +370,20 @@ fn bad_motions_are_rejected_with_key_line_and_expectation() {
             ":7",
             "non-zero",
         ),
+        // The hostile sweep: lengths that overflow or underflow were called "zero" later,
+        // without the key's line.
+        (
+            "kind = \"spin\"\naxis = [1e308,1e308,1e308]\nangular_velocity = 1\n",
+            "obstacles.0.motion.axis",
+            ":7",
+            "non-zero direction of finite length",
+        ),
+        (
+            "kind = \"spin\"\naxis = [1e-320,0,0]\nangular_velocity = 1\n",
+            "obstacles.0.motion.axis",
+            ":7",
+            "non-zero direction of finite length",
+        ),
         (
             "kind = \"keyframes\"\ntimes = [0, 1, 1]\npositions = [[0,0,0],[0,0,0],[0,0,0]]\n",
             "obstacles.0.motion.times[2]",

@@ -440,8 +440,9 @@ if [ -z "$ONLY" ]; then
         echo "  hand-written comparison table could leave \`runs/\`; a study \`name = \"../../../../x\"\`"
         echo "  wrote beside the working folder (\`out/study-../../../../x\`). Labels and names are now"
         echo "  plain folder names (tests/core/cli.rs, study::table)."
-        echo "- misleading message: a file in place of \`OUT/frames\` said only \`File exists\`; it now"
-        echo "  names the folder."
+        echo "- misleading messages: a file in place of \`OUT/frames\` said only \`File exists\`; it now"
+        echo "  names the folder. A spin axis of length overflowing or underflowing (\`[1e308; 3]\`) was"
+        echo "  called \"zero\" without its line; the scene check now names its key and line."
         echo
         echo "## Every case"
         echo
