@@ -11,6 +11,20 @@ pub(crate) fn adaptcloth(args: &[&str]) -> (i32, String) {
     (out.status.code().unwrap_or(-1), text)
 }
 
+/// Runs the binary with `args` in the folder `work` and asserts it succeeded.
+fn adaptcloth_ok_in(work: &std::path::Path, args: &[&str]) {
+    let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .current_dir(work)
+        .args(args)
+        .output()
+        .expect("binary runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
 #[test]
 fn bad_input_exits_2_with_a_clear_message() {
     let dir = tempfile::tempdir().unwrap();
@@ -370,16 +384,7 @@ fn a_scene_name_cannot_write_outside_the_output_folder() {
             format!("name = \"{name}\"\n[time]\nduration = 0.01\n"),
         )
         .unwrap();
-        let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
-            .current_dir(&work)
-            .args(["run", "s.toml", "--quiet"])
-            .output()
-            .expect("binary runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
+        adaptcloth_ok_in(&work, &["run", "s.toml", "--quiet"]);
         // Everything the run wrote is under work/out/.
         let entries: Vec<String> = std::fs::read_dir(&work)
             .unwrap()
@@ -414,15 +419,9 @@ fn a_study_label_cannot_write_outside_the_output_folder() {
             ),
         )
         .unwrap();
-        let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
-            .current_dir(&work)
-            .args(["study", "s.toml", "--quiet", "--out", &format!("out/s{i}")])
-            .output()
-            .expect("binary runs");
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        adaptcloth_ok_in(
+            &work,
+            &["study", "s.toml", "--quiet", "--out", &format!("out/s{i}")],
         );
         let mut entries: Vec<String> = std::fs::read_dir(&work)
             .unwrap()
@@ -451,16 +450,7 @@ fn a_study_name_cannot_write_outside_the_output_folder() {
          [[runs]]\nstrategy = \"static\"\nresolution = 3\n",
     )
     .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
-        .current_dir(&work)
-        .args(["study", "s.toml", "--quiet"])
-        .output()
-        .expect("binary runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    adaptcloth_ok_in(&work, &["study", "s.toml", "--quiet"]);
     let names = |p: &std::path::Path| -> Vec<String> {
         let mut v: Vec<String> = std::fs::read_dir(p)
             .unwrap()
