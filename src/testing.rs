@@ -51,6 +51,19 @@ pub fn obstacles(list: &[Obstacle]) -> Obstacles {
     Obstacles::build(list, &ContactParams::default()).expect("valid test obstacles")
 }
 
+/// The face pass over one face `[0, 1, 2]` of the three positions `x` (m) and velocities `v`
+/// (m/s) with inverse masses `inv_mass`, no friction, swept from `x_start` when given.
+pub fn respond_one_face(
+    obs: &Obstacles,
+    x_start: Option<&[Vec3]>,
+    x: &mut [Vec3],
+    v: &mut [Vec3],
+    inv_mass: [Real; 3],
+) -> crate::collision::FaceContactStats {
+    let scratch = &mut crate::collision::FaceScratch::default();
+    obs.respond_faces(&[[0, 1, 2]], x_start, x, v, &inv_mass, 0.0, scratch)
+}
+
 /// Every force switched off; a test switches on what it checks (`Forces { bending: true,
 /// ..no_forces() }`).
 pub fn no_forces() -> Forces {

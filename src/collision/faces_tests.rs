@@ -147,16 +147,7 @@ fn a_face_through_a_sphere_is_pushed_to_the_margin_by_barycentric_impulses() {
     let margin = obs.margin();
     let start = vec![v(-3.0, -3.0, 0.9), v(3.0, -3.0, 0.9), v(0.0, 6.0, 0.9)];
     let (mut x, mut vel) = (start.clone(), vec![v(0.3, 0.0, -1.0); 3]);
-    let scratch = &mut FaceScratch::default();
-    let stats = obs.respond_faces(
-        &[[0, 1, 2]],
-        None,
-        &mut x,
-        &mut vel,
-        &[1.0; 3],
-        0.0,
-        scratch,
-    );
+    let stats = crate::testing::respond_one_face(&obs, None, &mut x, &mut vel, [1.0; 3]);
     assert_eq!(stats.contacts, 1, "{stats:?}");
     for k in 0..3 {
         assert!((x[k] - start[k] - v(0.0, 0.0, 0.1 + margin)).norm() < 1e-12);
@@ -166,15 +157,7 @@ fn a_face_through_a_sphere_is_pushed_to_the_margin_by_barycentric_impulses() {
     assert_eq!(depth(&obs, [x[0], x[1], x[2]]), 0.0);
 
     let (mut x, mut vel) = (start.clone(), vec![v(0.3, 0.0, -1.0); 3]);
-    obs.respond_faces(
-        &[[0, 1, 2]],
-        None,
-        &mut x,
-        &mut vel,
-        &[1.0, 2.0, 0.0],
-        0.0,
-        scratch,
-    );
+    crate::testing::respond_one_face(&obs, None, &mut x, &mut vel, [1.0, 2.0, 0.0]);
     assert_eq!((x[2], vel[2]), (start[2], v(0.3, 0.0, -1.0)));
     assert_eq!(depth(&obs, [x[0], x[1], x[2]]), 0.0);
 }
@@ -294,34 +277,17 @@ fn a_face_dropped_over_a_thin_wall_in_one_step_stays_above_it() {
     let margin = obs.margin();
     let start = vec![v(-0.3, 0.0, 0.25), v(0.3, -0.1, 0.25), v(0.3, 0.1, 0.25)];
     let end: Vec<Vec3> = start.iter().map(|p| p - v(0.0, 0.0, 0.2)).collect();
-    let scratch = &mut FaceScratch::default();
     let fall = vec![v(0.0, 0.0, -50.0); 3];
 
     let (mut x, mut vel) = (end.clone(), fall.clone());
-    obs.respond_faces(
-        &[[0, 1, 2]],
-        None,
-        &mut x,
-        &mut vel,
-        &[1.0; 3],
-        0.0,
-        scratch,
-    );
+    crate::testing::respond_one_face(&obs, None, &mut x, &mut vel, [1.0; 3]);
     assert!(
         x.iter().all(|p| p.z < 0.1),
         "without the swept test the face is pushed down the wall, past the way it came: {x:?}"
     );
 
     let (mut x, mut vel) = (end.clone(), fall);
-    obs.respond_faces(
-        &[[0, 1, 2]],
-        Some(&start),
-        &mut x,
-        &mut vel,
-        &[1.0; 3],
-        0.0,
-        scratch,
-    );
+    crate::testing::respond_one_face(&obs, Some(&start), &mut x, &mut vel, [1.0; 3]);
     assert!(depth(&obs, [x[0], x[1], x[2]]) <= margin, "{x:?}");
     for k in 0..3 {
         assert!(x[k].z > 0.2 && x[k].z < 0.21, "{}", x[k]);

@@ -371,16 +371,7 @@ fn face_contact_takes_the_velocity_of_a_moving_obstacle() {
     obs.set_step(0.0, 0.2); // the sphere's top at z = 1.1
     let mut x = vec![v(-3.0, -3.0, 1.0), v(3.0, -3.0, 1.0), v(0.0, 6.0, 1.0)];
     let mut vel = vec![v(0.0, 0.0, 0.0); 3];
-    let scratch = &mut FaceScratch::default();
-    let stats = obs.respond_faces(
-        &[[0, 1, 2]],
-        None,
-        &mut x,
-        &mut vel,
-        &[1.0; 3],
-        0.0,
-        scratch,
-    );
+    let stats = crate::testing::respond_one_face(&obs, None, &mut x, &mut vel, [1.0; 3]);
     assert!(stats.contacts >= 1);
     for k in 0..3 {
         assert!((x[k].z - (1.1 + obs.margin())).abs() < 1e-9, "{}", x[k]);
