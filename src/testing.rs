@@ -109,3 +109,21 @@ pub fn random_state(mesh: &Mesh, seed: u64, amp: Real) -> (Vec<Vec3>, Vec<Vec3>)
     }
     (x, v)
 }
+
+/// Runs `work` (which touches a pipe) in a thread and returns its error message, failing the test
+/// when it has not returned within 5 s; `release` (opening the pipe's other end) then frees the
+/// waiting thread.
+pub fn error_within_seconds<E: std::fmt::Display>(
+    work: impl FnOnce() -> Result<(), E> + Send + 'static,
+    release: impl FnOnce(),
+) -> String {
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || send.send(work().map_err(|e| e.to_string())));
+    match receive.recv_timeout(std::time::Duration::from_secs(5)) {
+        Ok(result) => result.expect_err("the pipe was used as a file"),
+        Err(_) => {
+            release();
+            panic!("waited on a pipe for 5 s");
+        }
+    }
+}

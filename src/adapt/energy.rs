@@ -155,11 +155,12 @@ pub fn energy_trial(
     })
 }
 
-/// Applies `edit` under the energy law: tried first ([`energy_trial`], which also checks it, once);
-/// applied as [`super::transfer::apply_edit_with`] does, but with the new vertices at their relaxed positions (pushed out of
-/// the obstacles), when it adds no energy; applied with the gain taken from the touched vertices'
-/// relative motion ([`restore_kinetic_energy`], linear momentum unchanged) when that motion holds
-/// enough; refused otherwise, leaving the cloth unchanged.
+/// Applies `edit` under the energy law: tried first ([`energy_trial`], which also checks it,
+/// once); applied as [`super::transfer::apply_edit_with`] does, but with the new vertices at
+/// their relaxed positions (pushed out of the obstacles), when it adds no energy; applied with
+/// the gain taken from the touched vertices' relative motion ([`restore_kinetic_energy`], linear
+/// momentum unchanged) when that motion holds enough; refused otherwise, leaving the cloth
+/// unchanged.
 pub fn apply_edit_conserving(
     cloth: &mut Cloth,
     edit: &Edit,

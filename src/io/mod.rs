@@ -182,24 +182,15 @@ pub fn read_numeric_csv(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f6
 #[cfg(test)]
 mod tests {
     use super::{file_safe, temp_path, write_atomic, MetricsWriter};
+    use crate::testing::error_within_seconds;
     use std::path::Path;
-    use std::time::Duration;
 
-    /// Runs `write` in a thread and returns its error message, failing the test when it has not
-    /// returned within 5 s (it waits on a pipe: a reader is then opened to release it).
-    fn error_within_seconds(
+    /// The error of `write` over `pipe`, opening a reader to free it if it waits.
+    fn write_error(
         pipe: &Path,
         write: impl FnOnce() -> std::io::Result<()> + Send + 'static,
     ) -> String {
-        let (send, receive) = std::sync::mpsc::channel();
-        std::thread::spawn(move || send.send(write().map_err(|e| e.to_string())));
-        match receive.recv_timeout(Duration::from_secs(5)) {
-            Ok(result) => result.expect_err("writing over a pipe succeeded"),
-            Err(_) => {
-                let _ = std::fs::File::open(pipe);
-                panic!("writing waited on the pipe {} for 5 s", pipe.display());
-            }
-        }
+        error_within_seconds(write, || drop(std::fs::File::open(pipe)))
     }
 
     /// A pipe left where a run writes (the metrics table, an atomic write's temporary file) is
@@ -217,11 +208,11 @@ mod tests {
             }
         }
         let out = dir.path().to_path_buf();
-        let err = error_within_seconds(&partial, move || {
+        let err = write_error(&partial, move || {
             MetricsWriter::create(&out, &[]).map(|_| ())
         });
         assert!(err.contains("is a pipe or socket"), "{err}");
-        let err = error_within_seconds(&temp_path(&summary), move || write_atomic(&summary, b"{}"));
+        let err = write_error(&temp_path(&summary), move || write_atomic(&summary, b"{}"));
         assert!(err.contains("is a pipe or socket"), "{err}");
     }
 

@@ -5,8 +5,9 @@
 //! missing), for the material-point error `e_rms` and the fold-insensitive surface distance
 //! (Hausdorff) alike: speed-up = the static curve's wall time at that error / the curve's wall
 //! time at it (both by log-log interpolation along the curves' Pareto fronts: a coarser static
-//! grid as accurate as the target sets the static time, not the target's own run). Errors within 2x of the reference floor are
-//! flagged as not resolved. Nothing here is written by hand: it changes when the runs change.
+//! grid as accurate as the target sets the static time, not the target's own run). Errors
+//! within 2x of the reference floor are flagged as not resolved. Nothing here is written by
+//! hand: it changes when the runs change.
 
 use super::tables::{fmt_e, fmt_s};
 use crate::eval::metrics::{pareto_front, static_time_at_error};

@@ -445,15 +445,12 @@ pub(crate) mod tests {
         let p = dir.path().join("comparison.csv");
         let made = std::process::Command::new("mkfifo").arg(&p).status();
         if made.is_ok_and(|s| s.success()) {
-            let (send, receive) = std::sync::mpsc::channel();
             let q = p.clone();
-            std::thread::spawn(move || send.send(read_csv(&q).map(|_| ())));
-            let got = receive.recv_timeout(std::time::Duration::from_secs(5));
-            if got.is_err() {
-                let _ = std::fs::write(&p, ""); // release the reader
-            }
-            let e = got.expect("reading the pipe waited 5 s").unwrap_err();
-            assert!(e.to_string().contains("not a regular file"), "{e}");
+            let e = crate::testing::error_within_seconds(
+                move || read_csv(&q).map(|_| ()),
+                || drop(std::fs::write(&p, "")),
+            );
+            assert!(e.contains("not a regular file"), "{e}");
         }
     }
 }

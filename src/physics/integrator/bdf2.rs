@@ -102,13 +102,11 @@ impl Integrator for Bdf2 {
         let stats = if history {
             let h = 2.0 * dt / 3.0;
             let mass = model.mass();
+            let x_hat = |x_prev: &[Vec3], x: &[Vec3], i: usize| (x[i] * 4.0 - x_prev[i]) / 3.0;
             for i in 0..n {
-                let x_hat = (x[i] * 4.0 - self.x_prev[i]) / 3.0;
                 let v_hat = (v[i] * 4.0 - self.v_prev[i]) / 3.0;
-                self.w[i] = v[i] + (x_hat - x[i]) / h;
+                self.w[i] = v[i] + (x_hat(&self.x_prev, x, i) - x[i]) / h;
                 self.extra[i] = (v_hat - v[i]) * mass[i];
-                // x_prev now holds x̂, for the update below.
-                self.x_prev[i] = x_hat;
             }
             model.forces(x, v, self.solver.forces_buffer(n));
             let stats = self
@@ -116,14 +114,12 @@ impl Integrator for Bdf2 {
                 .solve_linearised(model, h, x, &self.w, Some(&self.extra));
             let (inv, dv) = (model.inv_mass(), self.solver.dv());
             for i in 0..n {
+                let (start, next) = (x[i], x_hat(&self.x_prev, x, i));
                 self.v_prev[i] = v[i];
+                self.x_prev[i] = start;
                 if inv[i] != 0.0 {
-                    let x_hat = self.x_prev[i];
-                    self.x_prev[i] = x[i];
                     v[i] += dv[i];
-                    x[i] = x_hat + v[i] * h;
-                } else {
-                    self.x_prev[i] = x[i];
+                    x[i] = next + v[i] * h;
                 }
             }
             stats

@@ -34,11 +34,16 @@ impl std::ops::Deref for ObstacleMeshes {
 }
 
 impl ObstacleMeshes {
+    /// Whether any obstacle moves.
+    pub fn moves(&self) -> bool {
+        !self.motions.iter().all(ObstacleMotion::is_still)
+    }
+
     /// Each obstacle's rigid motion at time `t` (s), as [`ObstacleMotion::matrix`] gives it
     /// (row-major rotation, then translation in m; the identity for a still one); `None` when
     /// no obstacle moves.
     pub fn poses(&self, t: f64) -> Option<Vec<[f64; 12]>> {
-        if self.motions.iter().all(ObstacleMotion::is_still) {
+        if !self.moves() {
             return None;
         }
         Some(self.motions.iter().map(|m| m.matrix(t)).collect())

@@ -144,12 +144,13 @@ pub fn snapshot_grid(
     check_size(width as u32, height as u32)?;
     let cloth = rows.iter().flat_map(|r| r.frames.iter().map(|(_, m)| m));
     // Moving obstacles are framed where they stand in every cell, still ones where they are.
-    let times = rows.iter().flat_map(|r| r.frames.iter().map(|(t, _)| *t));
-    let posed: Vec<FrameMesh> = match obstacles.poses(0.0) {
-        None => Vec::new(),
-        Some(_) => times.flat_map(|t| obstacles.at(t).into_owned()).collect(),
+    let posed: Vec<FrameMesh> = if obstacles.moves() {
+        let times = rows.iter().flat_map(|r| r.frames.iter().map(|(t, _)| *t));
+        times.flat_map(|t| obstacles.at(t).into_owned()).collect()
+    } else {
+        Vec::new()
     };
-    let framed: &[FrameMesh] = if posed.is_empty() { obstacles } else { &posed };
+    let framed: &[FrameMesh] = if obstacles.moves() { &posed } else { obstacles };
     let camera = camera_for(cloth, framed, CELL_WIDTH, CELL_HEIGHT);
     let mut img = Image::new(width, height);
     let column_time = |c: usize| rows.iter().find_map(|r| r.frames.get(c).map(|f| f.0));
