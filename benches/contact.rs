@@ -1,10 +1,9 @@
 //! Contact bench: the cost of one step's collision pass on a 65x65 cloth draped over the bunny,
-//! with vertex contact only (`collision.mode = "vertex"`, the bunny scene's) and with face contact,
+//! with vertex contact only (`collision.mode = "vertex"`) and with face contact (the bunny scene's),
 //! plus the surface measure (`max_surface_penetration`) that every metrics row takes.
 //!
 //! Set-up: the embedded bunny scene at 65x65 (8,192 faces), implicit Euler at a fixed 2 ms, run
-//! for 0.3 s under the scene's vertex contact so the cloth rests on the bunny (in face mode this
-//! run diverges at 0.39 s: see docs/model-notes.md, "Collision"). Each iteration starts from that
+//! for 0.3 s under the scene's face contact so the cloth rests on the bunny. Each iteration starts from that
 //! state moved by one free step (`x + (v + g dt) dt`) and runs the pass on a copy.
 
 use adaptcloth::collision::{ContactParams, FaceScratch, Obstacles};

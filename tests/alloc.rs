@@ -43,7 +43,7 @@ static GLOBAL: Counting = Counting;
 
 /// Steps of every shipped scene allocate nothing after a few warm-up steps (static strategy,
 /// with contacts: the sphere's and the round table's cloths start 2 mm or so above their tops
-/// here, the bunny's (vertex contact) through its head), with the scene's integrator and with
+/// here, the bunny's through its head), with the scene's integrator and with
 /// `implicit_euler` under each of its solvers.
 #[test]
 fn steady_state_steps_do_not_allocate() {

@@ -253,7 +253,7 @@ pub struct RunArgs {
     #[arg(long)]
     pub strategy: Option<String>,
     /// Integrator (overrides the scene): explicit_euler, symplectic_euler, velocity_verlet, verlet,
-    /// time_corrected_verlet, verlet_relaxation, rk4, implicit_euler.
+    /// time_corrected_verlet, verlet_relaxation, rk4, implicit_euler, bdf2.
     #[arg(long)]
     pub integrator: Option<String>,
     /// Simulated duration in seconds (overrides the scene).

@@ -294,3 +294,45 @@ fn a_face_dropped_over_a_thin_wall_in_one_step_stays_above_it() {
         assert!(vel[k].z.abs() < 1e-12, "{}", vel[k]);
     }
 }
+
+/// A face across the cube's edge y = z = 1, its vertices outside and the cube's corners 0.7 m
+/// away along the edge: no mesh vertex goes through it, so only the samples see it, never
+/// deeper than the exact 0.2 m (at y = z = 0.8). The response pushes the face until no sample
+/// is inside beyond the margin and takes its inward velocity; a sharp edge between the samples
+/// stays partly through (the known limit: the exact depth only falls).
+#[test]
+fn a_mesh_edge_through_a_face_is_seen_by_the_samples_and_pushed_out() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = obstacles(cube_mesh(dir.path()));
+    let tri = [v(-0.3, 1.3, 0.3), v(0.3, 1.3, 0.3), v(0.0, 0.3, 1.3)];
+    assert!(tri.iter().all(|&p| cube.penetration(p) == 0.0));
+    let solid = &cube.obstacles[0];
+    let Geometry::Mesh(mesh) = solid.geometry() else {
+        panic!("a mesh")
+    };
+    assert!(mesh_contact(solid, mesh, tri.map(to_glam), 0.0).is_none());
+    let seen = depth(&cube, tri);
+    assert!(seen > 0.0 && seen <= 0.2 + 1e-12, "{seen}");
+
+    // The deepest point of the face inside the cube, on a fine barycentric grid.
+    let exact_depth = |t: &[Vec3]| {
+        let n = 200;
+        let mut deepest: Real = 0.0;
+        for i in 0..=n {
+            for j in 0..=n - i {
+                let (a, b) = (i as Real / n as Real, j as Real / n as Real);
+                let p = t[0] * a + t[1] * b + t[2] * (1.0 - a - b);
+                let inside = (1.0 - p.x.abs()).min(1.0 - p.y.abs()).min(1.0 - p.z.abs());
+                deepest = deepest.max(inside);
+            }
+        }
+        deepest
+    };
+    assert!((exact_depth(&tri) - 0.2).abs() < 1e-3);
+    let (mut x, mut vel) = (tri.to_vec(), vec![v(0.0, -1.0, -1.0); 3]);
+    crate::testing::respond_one_face(&cube, None, &mut x, &mut vel, [1.0; 3]);
+    let left = depth(&cube, [x[0], x[1], x[2]]);
+    assert!(left <= cube.margin(), "{left} m left at a sample: {x:?}");
+    assert!(exact_depth(&x) < 0.2 - 0.02, "{}", exact_depth(&x));
+    assert!(vel.iter().all(|w| w.y + w.z > -2.0 + 0.1), "{vel:?}");
+}

@@ -119,11 +119,12 @@ fn every_strategy_on_every_source_scene_keeps_the_obstacles_out_of_its_faces() {
     }
 }
 
-/// The bunny scene keeps vertex contact (face contact diverges on its ear tips once the cloth is
-/// finer than about 2 cm: docs/model-notes.md, "Collision"), so a fine cloth on it completes.
+/// The bunny scene runs face contact (the default), and a fine cloth draped on it keeps the
+/// bunny's ears out of its faces at every row: the case that diverged when the mesh's face
+/// test followed only its vertices (docs/model-notes.md, "Collision").
 #[test]
-fn the_bunny_scene_uses_vertex_contact_and_a_fine_cloth_on_it_completes() {
-    let mut set = settings("vertex");
+fn a_fine_cloth_on_the_bunny_keeps_its_ears_out_of_the_faces() {
+    let mut set = settings("face");
     set.retain(|s| {
         !["collision.mode", "cloth.resolution", "time.duration"]
             .iter()
@@ -135,10 +136,9 @@ fn the_bunny_scene_uses_vertex_contact_and_a_fine_cloth_on_it_completes() {
     let loaded = scene("bunny", &set);
     assert_eq!(
         loaded.scene.collision.mode,
-        adaptcloth::scene::CollisionMode::Vertex
+        adaptcloth::scene::CollisionMode::Face
     );
     let dir = tempfile::tempdir().unwrap();
-    let (_, summary) = run_into(&loaded, dir.path());
-    assert_eq!(summary.status, RunStatus::Completed, "{}", summary.message);
-    assert!(summary.max_penetration <= MARGIN);
+    let deepest = deepest_over_rows(&loaded, dir.path());
+    assert!(deepest <= MARGIN, "{deepest} m through");
 }
