@@ -214,7 +214,7 @@ fn kinetic_energy(cloth: &Cloth, vertices: &[VertexId]) -> Real {
 
 /// Kinetic energy (J) of the movable `vertices`' motion relative to their mass-weighted mean
 /// velocity: what [`restore_kinetic_energy`] can take away without changing their momentum.
-fn relative_kinetic_energy(cloth: &Cloth, vertices: &[VertexId]) -> Real {
+pub fn relative_kinetic_energy(cloth: &Cloth, vertices: &[VertexId]) -> Real {
     let (m, inv) = (cloth.model.mass(), cloth.model.inv_mass());
     let movable: Vec<usize> = vertices
         .iter()

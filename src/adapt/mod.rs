@@ -22,7 +22,9 @@ mod target;
 mod transfer;
 
 pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
-pub use energy::{apply_edit_conserving, energy_trial, ConservingError, EnergyTrial};
+pub use energy::{
+    apply_edit_conserving, energy_trial, relative_kinetic_energy, ConservingError, EnergyTrial,
+};
 pub use params::{AdaptParams, Criteria};
 pub use relax::relax;
 pub use target::{ClothTarget, EditTarget};

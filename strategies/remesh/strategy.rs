@@ -1,14 +1,16 @@
 //! The [`Adaptivity`] implementation of local remeshing (MODEL.md §8.2) and its per-edge
 //! bookkeeping: the time each edge was made by a refinement, for the simplification hysteresis
-//! (`t_simplify`) and the 10 % smoothing rule of the shared criteria, and the time the energy law
-//! last refused a region holding it (such edges wait `t_simplify` before being tried again).
+//! (`t_simplify`) and the 10 % smoothing rule of the shared criteria, and the energy law's last
+//! refusal of a region holding it (such an edge waits until the region's motion could pay the
+//! refused gain, or for a time that doubles with each refusal).
 
 use super::{components, region_faces, remesh_region, Mode, RemeshError, RemeshParams};
 use crate::adapt::criteria::{select, EdgeInfo};
+use crate::adapt::relative_kinetic_energy;
 use crate::adapt::{AdaptContext, AdaptError, AdaptReport, Adaptivity, ClothTarget};
 use crate::cloth::Cloth;
 use crate::math::Real;
-use crate::mesh::{EdgeKey, FaceId, Mesh, VertexKey};
+use crate::mesh::{EdgeKey, FaceId, Mesh, VertexId, VertexKey};
 use std::collections::{BTreeMap, BTreeSet};
 
 /// Counters of a run of the strategy.
@@ -37,6 +39,24 @@ pub struct RemeshCounters {
 /// parameters always gets the same answer.
 type RegionKey = (Mode, Vec<[VertexKey; 3]>);
 
+/// Longest wait (in units of `t_simplify`) of a region the energy law keeps refusing.
+const MAX_WAIT: Real = 16.0;
+
+/// The energy law's last refusal of a region.
+#[derive(Clone, Debug, PartialEq)]
+struct EnergyRefusal {
+    /// Simulated time (s) of the refusal.
+    at: Real,
+    /// The energy (J) the re-meshing would have added.
+    gain: Real,
+    /// How long (s) after `at` the region's edges wait unless its motion could pay `gain`:
+    /// `t_simplify` after a first refusal, doubled by each further one of an edge up to
+    /// `MAX_WAIT` times `t_simplify`.
+    wait: Real,
+    /// The region's vertices (the ends of its selected edges).
+    vertices: Vec<VertexKey>,
+}
+
 /// Local remeshing: regions of selected edges are removed and re-meshed in rest space.
 #[derive(Clone, Debug, Default)]
 pub struct Remesh {
@@ -48,9 +68,12 @@ pub struct Remesh {
     refused_plans: BTreeMap<RegionKey, String>,
     /// The parameters `refused_plans` holds for.
     refused_under: Option<RemeshParams>,
-    /// Simulated time (s) at which the energy law last refused a region selected by each edge
-    /// (the cloth's motion changes that answer, so such edges only wait `t_simplify`).
-    refused_at: BTreeMap<(VertexKey, VertexKey), Real>,
+    /// The energy law's last refusal of a region selected by each edge, as an index into
+    /// `refusals` (the cloth's motion changes that answer, so such edges wait, they are not
+    /// refused for good).
+    refused_at: BTreeMap<(VertexKey, VertexKey), usize>,
+    /// The refusals `refused_at` points into (those no edge points at are dropped by `prune`).
+    refusals: Vec<EnergyRefusal>,
     /// What the strategy did so far.
     pub counters: RemeshCounters,
 }
@@ -91,22 +114,90 @@ impl Remesh {
         .age(edge)
     }
 
-    /// Forgets entries whose vertices are gone or whose age reached `t_simplify` (both thresholds
-    /// of the criteria are at most `t_simplify`, so such an edge counts as old either way; a
-    /// refused edge may be tried again).
+    /// Forgets entries whose vertices are gone, refinement times that reached `t_simplify` (both
+    /// thresholds of the criteria are at most `t_simplify`, so such an edge counts as old either
+    /// way), and refusals quiet for twice their wait (the edge's next refusal waits afresh).
     pub(super) fn prune(&mut self, mesh: &Mesh, now: Real, t_simplify: Real) {
-        let live = |(a, b): &(VertexKey, VertexKey), t: &mut Real| {
-            mesh.resolve(*a).is_some() && mesh.resolve(*b).is_some() && now - *t < t_simplify
+        let alive = |(a, b): &(VertexKey, VertexKey)| {
+            mesh.resolve(*a).is_some() && mesh.resolve(*b).is_some()
         };
-        self.refined_at.retain(live);
-        self.refused_at.retain(live);
+        self.refined_at
+            .retain(|e, t| alive(e) && now - *t < t_simplify);
+        let refusals = &self.refusals;
+        self.refused_at.retain(|e, &mut r| {
+            let r = &refusals[r];
+            alive(e) && now - r.at < 2.0 * r.wait
+        });
+        // Keep only the refusals still pointed at, in order.
+        let mut index = vec![usize::MAX; self.refusals.len()];
+        for &r in self.refused_at.values() {
+            index[r] = 0;
+        }
+        let mut kept = 0;
+        for (old, new) in index.iter_mut().enumerate() {
+            if *new == 0 {
+                *new = kept;
+                self.refusals.swap(kept, old);
+                kept += 1;
+            }
+        }
+        self.refusals.truncate(kept);
+        for r in self.refused_at.values_mut() {
+            *r = index[*r];
+        }
         self.refused_plans
             .retain(|(_, faces), _| faces.iter().flatten().all(|&k| mesh.resolve(k).is_some()));
     }
 
-    /// True when the energy law refused a region of `edge` less than `t_simplify` ago (pruned).
-    fn waiting(&self, mesh: &Mesh, edge: EdgeKey) -> bool {
-        self.refused_at.contains_key(&edge_keys(mesh, edge))
+    /// True when `edge` waits at time `now` (s): the energy law refused a region of it within
+    /// that refusal's wait, and the relative kinetic energy of that region's vertices still
+    /// cannot pay the refused gain.
+    pub(super) fn waiting(&self, cloth: &Cloth, edge: EdgeKey, now: Real) -> bool {
+        let Some(&r) = self.refused_at.get(&edge_keys(&cloth.mesh, edge)) else {
+            return false;
+        };
+        let r = &self.refusals[r];
+        if now - r.at >= r.wait {
+            return false;
+        }
+        let vertices: Vec<VertexId> = r
+            .vertices
+            .iter()
+            .filter_map(|&k| cloth.mesh.resolve(k))
+            .collect();
+        relative_kinetic_energy(cloth, &vertices) < r.gain
+    }
+
+    /// Remembers an energy refusal of `gain` (J) at `now` (s) of the region of `edges`.
+    pub(super) fn remember_refusal(
+        &mut self,
+        mesh: &Mesh,
+        edges: &[EdgeKey],
+        now: Real,
+        gain: Real,
+        t_simplify: Real,
+    ) {
+        let mut vertices: Vec<VertexKey> = edges
+            .iter()
+            .flat_map(|e| [mesh.key(e.0), mesh.key(e.1)])
+            .collect();
+        vertices.sort_unstable();
+        vertices.dedup();
+        let wait = edges
+            .iter()
+            .filter_map(|&e| self.refused_at.get(&edge_keys(mesh, e)))
+            .map(|&r| (2.0 * self.refusals[r].wait).min(MAX_WAIT * t_simplify))
+            .fold(t_simplify, Real::max);
+        let index = self.refusals.len();
+        self.refusals.push(EnergyRefusal {
+            at: now,
+            gain,
+            wait,
+            vertices,
+        });
+        for &e in edges {
+            self.refused_at.insert(edge_keys(mesh, e), index);
+        }
     }
 
     /// The key of the region `edges` select, `None` when an edge is gone.
@@ -125,7 +216,8 @@ impl Remesh {
     }
 
     /// Re-meshes one component through the shared edit target; a refusal leaves the cloth as it
-    /// was and is counted.
+    /// was and is counted, an energy refusal remembered (`t_simplify`, s: its first wait).
+    #[allow(clippy::too_many_arguments)]
     fn apply(
         &mut self,
         target: &mut ClothTarget,
@@ -133,6 +225,7 @@ impl Remesh {
         edges: &[EdgeKey],
         mode: Mode,
         params: &RemeshParams,
+        t_simplify: Real,
         fresh: &mut BTreeSet<FaceId>,
     ) {
         if self.refused_under.as_ref() != Some(params) {
@@ -168,12 +261,9 @@ impl Remesh {
             }
             Err(e) => {
                 self.counters.refused += 1;
-                if matches!(e, RemeshError::AddsEnergy { .. }) {
+                if let RemeshError::AddsEnergy { gain, .. } = e {
                     self.counters.energy_refused += 1;
-                    let mesh = &target.cloth.mesh;
-                    for &e in edges {
-                        self.refused_at.insert(edge_keys(mesh, e), now);
-                    }
+                    self.remember_refusal(&target.cloth.mesh, edges, now, gain, t_simplify);
                 }
                 self.counters.last_refusal = e.to_string();
                 if let (Some(k), RemeshError::NoAcceptableMesh(_)) = (key, &e) {
@@ -209,14 +299,22 @@ impl Adaptivity for Remesh {
             .refine
             .iter()
             .map(|(e, _)| *e)
-            .filter(|&e| !self.waiting(&target.cloth.mesh, e))
+            .filter(|&e| !self.waiting(target.cloth, e, ctx.time))
             .collect();
         for group in components(&target.cloth.mesh, &refine) {
             if ctx.interrupted() {
                 return Ok(target.report);
             }
             let mode = Mode::Refine;
-            self.apply(&mut target, ctx.time, &group, mode, &params, &mut fresh);
+            self.apply(
+                &mut target,
+                ctx.time,
+                &group,
+                mode,
+                &params,
+                spec.t_simplify,
+                &mut fresh,
+            );
         }
         // Simplify only what this pass did not just re-mesh.
         let simplify: Vec<EdgeKey> = selection
@@ -229,7 +327,7 @@ impl Adaptivity for Remesh {
                     .mesh
                     .edge(e.0, e.1)
                     .is_some_and(|ef| ef.iter().all(|f| !fresh.contains(&f)))
-                    && !self.waiting(&target.cloth.mesh, *e)
+                    && !self.waiting(target.cloth, *e, ctx.time)
             })
             .collect();
         for group in components(&target.cloth.mesh, &simplify) {
@@ -237,7 +335,15 @@ impl Adaptivity for Remesh {
                 break;
             }
             let mode = Mode::Simplify;
-            self.apply(&mut target, ctx.time, &group, mode, &params, &mut fresh);
+            self.apply(
+                &mut target,
+                ctx.time,
+                &group,
+                mode,
+                &params,
+                spec.t_simplify,
+                &mut fresh,
+            );
         }
         Ok(target.report)
     }

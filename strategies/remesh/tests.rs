@@ -217,6 +217,50 @@ fn refined_edges_age_and_are_forgotten_after_t_simplify() {
     assert_eq!(s.age(&cloth.mesh, edge, 1.2), None);
 }
 
+/// An edge of a region the energy law refused waits `t_simplify`, twice that after a second
+/// refusal, at most 16 times that; not at all once the region's relative motion could pay the
+/// refused gain; and `prune` forgets an old refusal without losing a newer one.
+#[test]
+fn an_energy_refused_region_waits_longer_each_time_unless_its_motion_can_pay() {
+    let mesh = union_jack(3, 3, 1.0, 1.0);
+    let x = mesh
+        .vertices()
+        .map(|v| Vec3::new(mesh.rest(v).x, mesh.rest(v).y, 0.0))
+        .collect();
+    let mut cloth = crate::testing::cloth(mesh, x);
+    let (t_simplify, gain) = (0.1, 1e-6);
+    let (edge, other) = (e(0, 1), e(7, 8));
+    let mut s = Remesh::new();
+    s.remember_refusal(&cloth.mesh, &[edge], 0.0, gain, t_simplify);
+    assert!(s.waiting(&cloth, edge, 0.09) && !s.waiting(&cloth, edge, 0.11));
+    assert!(!s.waiting(&cloth, other, 0.05), "an edge never refused");
+    s.remember_refusal(&cloth.mesh, &[edge], 0.1, gain, t_simplify);
+    assert!(s.waiting(&cloth, edge, 0.29) && !s.waiting(&cloth, edge, 0.31));
+    for _ in 0..10 {
+        s.remember_refusal(&cloth.mesh, &[edge], 0.3, gain, t_simplify);
+    }
+    assert!(s.waiting(&cloth, edge, 0.3 + 1.59) && !s.waiting(&cloth, edge, 0.3 + 1.61));
+
+    // The region's two vertices moving apart hold more than the gain: tried at once.
+    cloth.v[0] = Vec3::new(-1.0, 0.0, 0.0);
+    cloth.v[1] = Vec3::new(1.0, 0.0, 0.0);
+    let payable = crate::adapt::relative_kinetic_energy(&cloth, &[VertexId(0), VertexId(1)]);
+    assert!(payable > gain, "{payable}");
+    assert!(!s.waiting(&cloth, edge, 0.31));
+    cloth.v[0] = Vec3::zeros();
+    cloth.v[1] = Vec3::zeros();
+
+    // A later refusal of another edge survives pruning the first (quiet for twice its wait).
+    s.remember_refusal(&cloth.mesh, &[other], 3.45, gain, t_simplify);
+    s.prune(&cloth.mesh, 0.3 + 2.0 * 1.6 + 0.01, t_simplify);
+    assert!(s.waiting(&cloth, other, 3.52), "kept");
+    s.remember_refusal(&cloth.mesh, &[edge], 3.6, gain, t_simplify);
+    assert!(
+        s.waiting(&cloth, edge, 3.69) && !s.waiting(&cloth, edge, 3.71),
+        "after being forgotten, an edge waits t_simplify again"
+    );
+}
+
 /// A region the planner refused is answered from memory when the next pass selects it again,
 /// with the same refusal, and is planned afresh once the parameters change.
 #[test]
