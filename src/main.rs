@@ -5,7 +5,8 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    match cli::execute(Cli::parse().command) {
+    let args = Cli::parse();
+    match cli::set_threads(args.threads).and_then(|()| cli::execute(args.command)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             let message = e.to_string();

@@ -15,4 +15,5 @@ mod run_outputs;
 mod runs;
 mod scene_fuzz;
 mod study;
+mod threads;
 mod transfer;
