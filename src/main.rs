@@ -5,8 +5,7 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let args = Cli::parse();
-    match cli::set_threads(args.threads).and_then(|()| cli::execute(args.command)) {
+    match cli::execute(Cli::parse().command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             let message = e.to_string();

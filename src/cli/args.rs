@@ -12,10 +12,6 @@ use std::path::PathBuf;
     about = "Cloth simulation on an adaptive triangle mesh"
 )]
 pub struct Cli {
-    /// Threads of the parallel sweeps over a large cloth's elements (from 2,048 vertex slots);
-    /// default: `RAYON_NUM_THREADS`, else one per core. Results are the same at any count.
-    #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..=1024))]
-    pub threads: Option<u16>,
     /// The command to run.
     #[command(subcommand)]
     pub command: Command,

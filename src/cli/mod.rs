@@ -79,18 +79,6 @@ impl From<ReportError> for CliError {
     }
 }
 
-/// Sets the number of threads of the parallel sweeps (`--threads`) before anything runs; `None`
-/// keeps rayon's default (`RAYON_NUM_THREADS`, else one per core).
-pub fn set_threads(threads: Option<u16>) -> Result<(), CliError> {
-    let Some(n) = threads else {
-        return Ok(());
-    };
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(n.into())
-        .build_global()
-        .map_err(|e| CliError::Failed(format!("--threads {n}: {e}")))
-}
-
 /// Runs one command.
 pub fn execute(command: Command) -> Result<(), CliError> {
     match command {

@@ -4,14 +4,9 @@
 //! Each force family is one sweep: springs (elastic and damping fused), bending elements (elastic
 //! and damping fused), then the per-vertex external forces (gravity and drag fused). The switches
 //! are resolved once per call into a monomorphised kernel, so a disabled force is never evaluated
-//! and the inner loops carry no per-element switch test. Evaluation allocates nothing once its
-//! buffers have grown. From `incidence::PARALLEL_MIN_SLOTS` slots on and with more than one
-//! thread, each element's force is computed in parallel and each slot gathers its elements'
-//! forces in element order: the same sums, bit for bit, as the serial sweep, whatever the thread
-//! count.
+//! and the inner loops carry no per-element switch test. Evaluation allocates nothing.
 
 use super::elements::{Bends, Springs};
-use super::incidence::Gather;
 use super::integrator::Dynamics;
 use super::params::{Forces, Material, SpringMode};
 use crate::math::{Real, Vec3};
@@ -48,8 +43,6 @@ pub struct ForceModel {
     total_mass: Real,
     min_mass: Real,
     max_stiffness: Real,
-    /// The elements at each slot, for the parallel sweeps of a large model.
-    gather: Gather,
 }
 
 impl ForceModel {
@@ -67,7 +60,6 @@ impl ForceModel {
             total_mass: 0.0,
             min_mass: 0.0,
             max_stiffness: 0.0,
-            gather: Gather::default(),
         }
     }
 
@@ -101,23 +93,6 @@ impl ForceModel {
         self.springs.rebuild(mesh, &self.material);
         self.bends.rebuild(mesh);
         self.max_stiffness = self.springs.max_stiffness();
-        self.refresh_gather();
-    }
-
-    /// This model evaluating its forces serially whatever its size (tests of the parallel
-    /// sweeps).
-    #[cfg(test)]
-    pub(crate) fn serial(&self) -> ForceModel {
-        ForceModel {
-            gather: Gather::default(),
-            ..self.clone()
-        }
-    }
-
-    /// Lists the elements at each slot again (after the elements changed).
-    fn refresh_gather(&mut self) {
-        let slots = self.mass.len();
-        self.gather.rebuild(slots, &self.springs, &self.bends);
     }
 
     /// This model with only the springs and bending elements having a vertex among `slots`
@@ -130,7 +105,6 @@ impl ForceModel {
         m.springs.retain_touching(keep);
         m.bends.retain_touching(keep);
         m.max_stiffness = m.springs.max_stiffness();
-        m.refresh_gather();
         m
     }
 
@@ -179,7 +153,6 @@ impl ForceModel {
         model.springs = springs;
         model.max_stiffness = model.springs.max_stiffness();
         model.refresh_mass_stats();
-        model.refresh_gather();
         model
     }
 
@@ -315,12 +288,12 @@ impl ForceModel {
             &sp.k[..n],
             &sp.kd[..n],
         );
-        let term = |j: usize| {
+        for j in 0..n {
             let (ia, ib) = (a[j] as usize, b[j] as usize);
             let d = x[ib] - x[ia];
             let len2 = d.norm_squared();
             if len2 <= 0.0 {
-                return None; // coincident ends: no direction, no force
+                continue; // coincident ends: no direction, no force
             }
             let mut c = 0.0;
             if ELASTIC {
@@ -335,17 +308,9 @@ impl ForceModel {
             if DAMP {
                 c += kd[j] * (v[ib] - v[ia]).dot(&d) / len2;
             }
-            Some(d * c)
-        };
-        if self.gather.covers(f.len()) {
-            self.gather.add_spring_terms(f, term);
-            return;
-        }
-        for j in 0..n {
-            if let Some(fa) = term(j) {
-                f[a[j] as usize] += fa;
-                f[b[j] as usize] -= fa;
-            }
+            let fa = d * c;
+            f[ia] += fa;
+            f[ib] -= fa;
         }
     }
 
@@ -358,33 +323,26 @@ impl ForceModel {
     ) {
         let kb = self.material.k_b;
         let kbd = self.material.k_bd;
-        let bends = &self.bends.v;
-        let term = |e: usize| {
-            let ids = bends[e].map(|i| i as usize);
-            let u = bend_modes(x[ids[0]], x[ids[1]], x[ids[2]], x[ids[3]])?;
+        for &[i1, i2, i3, i4] in &self.bends.v {
+            let (i1, i2, i3, i4) = (i1 as usize, i2 as usize, i3 as usize, i4 as usize);
+            let Some(u) = bend_modes(x[i1], x[i2], x[i3], x[i4]) else {
+                continue;
+            };
             let mut c = 0.0;
             if ELASTIC {
                 c += kb * u.elastic_scale * u.sin_half;
             }
             if DAMP {
-                let uv = u.u[0].dot(&v[ids[0]])
-                    + u.u[1].dot(&v[ids[1]])
-                    + u.u[2].dot(&v[ids[2]])
-                    + u.u[3].dot(&v[ids[3]]);
+                let uv = u.u[0].dot(&v[i1])
+                    + u.u[1].dot(&v[i2])
+                    + u.u[2].dot(&v[i3])
+                    + u.u[3].dot(&v[i4]);
                 c -= kbd * u.damping_scale * uv;
             }
-            Some(u.u.map(|uk| uk * c))
-        };
-        if self.gather.covers(f.len()) {
-            self.gather.add_bend_terms(f, term);
-            return;
-        }
-        for (e, ids) in bends.iter().enumerate() {
-            if let Some(t) = term(e) {
-                for k in 0..4 {
-                    f[ids[k] as usize] += t[k];
-                }
-            }
+            f[i1] += u.u[0] * c;
+            f[i2] += u.u[1] * c;
+            f[i3] += u.u[2] * c;
+            f[i4] += u.u[3] * c;
         }
     }
 

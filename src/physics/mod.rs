@@ -6,15 +6,13 @@
 //! `inv_mass = 0` and never move.
 //!
 //! Files: `params` (the physics' own parameters: [`Material`], [`Forces`], [`IntegratorParams`]),
-//! `elements` (the flat [`Springs`] and [`Bends`] arrays), `incidence` (the elements at each vertex
-//! slot, for sums gathered per slot in parallel), `forces` ([`ForceModel`]: vertex
+//! `elements` (the flat [`Springs`] and [`Bends`] arrays), `forces` ([`ForceModel`]: vertex
 //! parameters and force kernels), `integrator` (the [`Dynamics`] and [`Integrator`] traits, the
 //! registry) with one file per integrator under `integrator/`. Seed 004's single-particle
 //! experiments that compare the integrators live in `crate::study::integrators`.
 
 mod elements;
 mod forces;
-pub(crate) mod incidence;
 mod integrator;
 mod limits;
 mod params;

@@ -15,5 +15,4 @@ mod run_outputs;
 mod runs;
 mod scene_fuzz;
 mod study;
-mod threads;
 mod transfer;

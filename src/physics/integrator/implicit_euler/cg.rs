@@ -4,9 +4,11 @@
 //! `dv = 0` and stops at `|r| <= tolerance |b|` (relative to the right-hand side) or at the
 //! iteration cap, keeping its last iterate either way.
 
-use super::system::{ProductScratch, System};
+// Index loops over parallel per-slot arrays read clearer than zipped iterators here.
+#![allow(clippy::needless_range_loop)]
+
+use super::system::System;
 use crate::math::{Mat3, Real, Vec3};
-use crate::physics::incidence::{for_each_indexed, parallel_for};
 use crate::physics::integrator::{fit, StepStats};
 use crate::physics::ForceModel;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -24,7 +26,6 @@ pub(super) struct Cg {
     z: Vec<Vec3>,
     p: Vec<Vec3>,
     q: Vec<Vec3>,
-    product: ProductScratch,
 }
 
 impl Cg {
@@ -39,7 +40,6 @@ impl Cg {
             z: Vec::new(),
             p: Vec::new(),
             q: Vec::new(),
-            product: ProductScratch::default(),
         }
     }
 
@@ -66,18 +66,16 @@ impl Cg {
         if b_norm == 0.0 || !b_norm.is_finite() {
             return StepStats::default();
         }
-        // Slot-wise updates run in parallel on large systems (the same values: each slot alone);
-        // the dot products stay serial sums in slot order.
-        let par = parallel_for(n);
         self.precond.resize(n, Mat3::zeros());
-        for_each_indexed(&mut self.precond, par, |i, pc| {
-            *pc = system.diag_blocks[i].try_inverse().unwrap_or_else(|| {
+        for i in 0..n {
+            self.precond[i] = system.diag_blocks[i].try_inverse().unwrap_or_else(|| {
                 Mat3::identity() * (1.0 / system.diag[i].max(Real::MIN_POSITIVE))
             });
-        });
+        }
         let stop = self.tolerance * b_norm;
-        let (precond, r) = (&self.precond, &self.r);
-        for_each_indexed(&mut self.z, par, |i, z| *z = precond[i] * r[i]);
+        for i in 0..n {
+            self.z[i] = self.precond[i] * self.r[i];
+        }
         self.p.copy_from_slice(&self.z);
         let mut rz = dot(&self.r, &self.z);
         let mut iterations = 0;
@@ -90,28 +88,31 @@ impl Cg {
                 };
             }
             iterations += 1;
-            system.apply(model, &self.p, &mut self.q, &mut self.product);
+            system.apply(model, &self.p, &mut self.q);
             let pq = dot(&self.p, &self.q);
             if pq.is_nan() || pq <= 0.0 {
                 break; // breakdown (p = 0 or round-off): keep the current iterate
             }
             let alpha = rz / pq;
-            let (p, q) = (&self.p, &self.q);
-            for_each_indexed(&mut dv[..n], par, |i, d| *d += p[i] * alpha);
-            for_each_indexed(&mut self.r, par, |i, r| *r -= q[i] * alpha);
+            for i in 0..n {
+                dv[i] += self.p[i] * alpha;
+                self.r[i] -= self.q[i] * alpha;
+            }
             if dot(&self.r, &self.r).sqrt() <= stop {
                 return StepStats {
                     cg_iterations: iterations,
                     ..StepStats::default()
                 };
             }
-            let (precond, r) = (&self.precond, &self.r);
-            for_each_indexed(&mut self.z, par, |i, z| *z = precond[i] * r[i]);
+            for i in 0..n {
+                self.z[i] = self.precond[i] * self.r[i];
+            }
             let rz_new = dot(&self.r, &self.z);
             let beta = rz_new / rz;
             rz = rz_new;
-            let z = &self.z;
-            for_each_indexed(&mut self.p, par, |i, p| *p = z[i] + *p * beta);
+            for i in 0..n {
+                self.p[i] = self.z[i] + self.p[i] * beta;
+            }
         }
         StepStats {
             cg_iterations: iterations,

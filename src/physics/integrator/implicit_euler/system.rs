@@ -14,7 +14,6 @@
 
 use crate::math::{Mat3, Real, Vec3};
 use crate::physics::forces::bend_modes;
-use crate::physics::incidence::{for_each_indexed, parallel_for, Incidence};
 use crate::physics::{ForceModel, SpringMode};
 
 /// The assembled pieces of `S A S` and `S b` for one step; buffers are reused across steps.
@@ -34,18 +33,6 @@ pub(super) struct System {
     pub(super) diag_blocks: Vec<Mat3>,
     /// Per slot: the right-hand side `dt (f + dt K v)` (N s); 0 at a fixed slot.
     pub(super) b: Vec<Vec3>,
-    /// The elements at each slot, listed when the product runs in parallel
-    /// ([`parallel_for`]).
-    incidence: Incidence,
-}
-
-/// Per-element buffers of the parallel product [`System::apply`], reused across calls.
-#[derive(Clone, Debug, Default)]
-pub(super) struct ProductScratch {
-    /// Per spring: `B_j (p_a - p_b)`.
-    spring_terms: Vec<Vec3>,
-    /// Per bending element: `w_e (U_eᵀ p)`.
-    bend_terms: Vec<Real>,
 }
 
 impl System {
@@ -103,9 +90,6 @@ impl System {
             self.b[b] -= kv;
         }
         self.build_bending(model, dt, x, v);
-        if parallel_for(n) {
-            self.incidence.rebuild(n, model.springs(), model.bends());
-        }
         let w = model.inv_mass();
         for i in 0..n {
             self.b[i] *= dt;
@@ -156,60 +140,9 @@ impl System {
     }
 
     /// `q = A_f p` (N s for `p` in m/s) for a `p` that is 0 at every fixed slot (as CG's
-    /// iterates are); `q` is 0 at fixed slots. `model` must be the one the system was built
-    /// from. When it runs in parallel ([`parallel_for`]), each element's term is computed in
-    /// parallel, then gathered per slot in parallel, in element order: the same sums, bit for
-    /// bit, as the serial sweep over the elements, whatever the thread count.
-    pub(super) fn apply(
-        &self,
-        model: &ForceModel,
-        p: &[Vec3],
-        q: &mut [Vec3],
-        scratch: &mut ProductScratch,
-    ) {
-        if !parallel_for(p.len()) {
-            self.apply_serial(model, p, q);
-            return;
-        }
-        let sp = model.springs();
-        let bends = &model.bends().v;
-        scratch.spring_terms.resize(sp.len(), Vec3::zeros());
-        for_each_indexed(&mut scratch.spring_terms, true, |j, t| {
-            let (a, b) = (sp.a[j] as usize, sp.b[j] as usize);
-            *t = self.spring_blocks[j] * (p[a] - p[b]);
-        });
-        scratch.bend_terms.resize(self.bend_u.len(), 0.0);
-        for_each_indexed(&mut scratch.bend_terms, true, |e, term| {
-            let (ids, u) = (&bends[e], &self.bend_u[e]);
-            let s: Real = (0..4).map(|k| u[k].dot(&p[ids[k] as usize])).sum();
-            *term = s * self.bend_w[e];
-        });
-        let (springs, bend_terms) = (&scratch.spring_terms, &scratch.bend_terms);
-        let w = model.inv_mass();
-        for_each_indexed(q, true, |i, qi| {
-            if w[i] == 0.0 {
-                *qi = Vec3::zeros();
-                return;
-            }
-            let mut sum = p[i] * self.diag[i];
-            for end in self.incidence.springs_at(i) {
-                if end.second {
-                    sum -= springs[end.j];
-                } else {
-                    sum += springs[end.j];
-                }
-            }
-            if !bend_terms.is_empty() {
-                for c in self.incidence.bends_at(i) {
-                    sum += self.bend_u[c.e][c.k] * bend_terms[c.e];
-                }
-            }
-            *qi = sum;
-        });
-    }
-
-    /// [`System::apply`] as one sweep over the elements, scattering each term to its slots.
-    pub(super) fn apply_serial(&self, model: &ForceModel, p: &[Vec3], q: &mut [Vec3]) {
+    /// iterates are), swept over the elements like the force kernel; `q` is 0 at fixed slots.
+    /// `model` must be the one the system was built from.
+    pub(super) fn apply(&self, model: &ForceModel, p: &[Vec3], q: &mut [Vec3]) {
         let sp = model.springs();
         let w = model.inv_mass();
         for i in 0..p.len() {
