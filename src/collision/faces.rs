@@ -173,16 +173,14 @@ impl Solid {
                 }
             }
             Geometry::Cuboid(s) => convex_contact(self.pose(), s, tri, band)?,
-            Geometry::Mesh(m) => {
-                match (
-                    mesh_contact(self, m, tri, band),
-                    mesh_sample_contact(self, tri, band),
-                ) {
-                    (Some(tip), Some(sunk)) if sunk.distance < tip.distance => sunk,
-                    (Some(tip), _) => tip,
-                    (None, sunk) => sunk?,
-                }
-            }
+            // The deeper of the tip and the sunk face (the tip on a tie).
+            Geometry::Mesh(m) => [
+                mesh_contact(self, m, tri, band),
+                mesh_sample_contact(self, tri, band),
+            ]
+            .into_iter()
+            .flatten()
+            .min_by(|a, b| a.distance.total_cmp(&b.distance))?,
         };
         (contact.distance < band).then_some(contact)
     }

@@ -12,6 +12,7 @@ use crate::cloth::Cloth;
 use crate::math::Real;
 use crate::mesh::{EdgeKey, FaceId, Mesh, VertexId, VertexKey};
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::Arc;
 
 /// Counters of a run of the strategy.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -68,12 +69,10 @@ pub struct Remesh {
     refused_plans: BTreeMap<RegionKey, String>,
     /// The parameters `refused_plans` holds for.
     refused_under: Option<RemeshParams>,
-    /// The energy law's last refusal of a region selected by each edge, as an index into
-    /// `refusals` (the cloth's motion changes that answer, so such edges wait, they are not
-    /// refused for good).
-    refused_at: BTreeMap<(VertexKey, VertexKey), usize>,
-    /// The refusals `refused_at` points into (those no edge points at are dropped by `prune`).
-    refusals: Vec<EnergyRefusal>,
+    /// The energy law's last refusal of a region selected by each edge, shared by the region's
+    /// edges (the cloth's motion changes that answer, so such edges wait, they are not refused
+    /// for good).
+    refused_at: BTreeMap<(VertexKey, VertexKey), Arc<EnergyRefusal>>,
     /// What the strategy did so far.
     pub counters: RemeshCounters,
 }
@@ -123,28 +122,8 @@ impl Remesh {
         };
         self.refined_at
             .retain(|e, t| alive(e) && now - *t < t_simplify);
-        let refusals = &self.refusals;
-        self.refused_at.retain(|e, &mut r| {
-            let r = &refusals[r];
-            alive(e) && now - r.at < 2.0 * r.wait
-        });
-        // Keep only the refusals still pointed at, in order.
-        let mut index = vec![usize::MAX; self.refusals.len()];
-        for &r in self.refused_at.values() {
-            index[r] = 0;
-        }
-        let mut kept = 0;
-        for (old, new) in index.iter_mut().enumerate() {
-            if *new == 0 {
-                *new = kept;
-                self.refusals.swap(kept, old);
-                kept += 1;
-            }
-        }
-        self.refusals.truncate(kept);
-        for r in self.refused_at.values_mut() {
-            *r = index[*r];
-        }
+        self.refused_at
+            .retain(|e, r| alive(e) && now - r.at < 2.0 * r.wait);
         self.refused_plans
             .retain(|(_, faces), _| faces.iter().flatten().all(|&k| mesh.resolve(k).is_some()));
     }
@@ -153,10 +132,9 @@ impl Remesh {
     /// that refusal's wait, and the relative kinetic energy of that region's vertices still
     /// cannot pay the refused gain.
     pub(super) fn waiting(&self, cloth: &Cloth, edge: EdgeKey, now: Real) -> bool {
-        let Some(&r) = self.refused_at.get(&edge_keys(&cloth.mesh, edge)) else {
+        let Some(r) = self.refused_at.get(&edge_keys(&cloth.mesh, edge)) else {
             return false;
         };
-        let r = &self.refusals[r];
         if now - r.at >= r.wait {
             return false;
         }
@@ -186,17 +164,16 @@ impl Remesh {
         let wait = edges
             .iter()
             .filter_map(|&e| self.refused_at.get(&edge_keys(mesh, e)))
-            .map(|&r| (2.0 * self.refusals[r].wait).min(MAX_WAIT * t_simplify))
+            .map(|r| (2.0 * r.wait).min(MAX_WAIT * t_simplify))
             .fold(t_simplify, Real::max);
-        let index = self.refusals.len();
-        self.refusals.push(EnergyRefusal {
+        let refusal = Arc::new(EnergyRefusal {
             at: now,
             gain,
             wait,
             vertices,
         });
         for &e in edges {
-            self.refused_at.insert(edge_keys(mesh, e), index);
+            self.refused_at.insert(edge_keys(mesh, e), refusal.clone());
         }
     }
 
@@ -215,19 +192,42 @@ impl Remesh {
         Some((mode, keys))
     }
 
+    /// Re-meshes each component of `edges` in `mode` through the shared edit target, but for
+    /// the edges that wait (taken out before the components are formed); stops when
+    /// interrupted. A refusal leaves the cloth as it was and is counted.
+    fn apply_components(
+        &mut self,
+        target: &mut ClothTarget,
+        ctx: &AdaptContext,
+        edges: impl IntoIterator<Item = EdgeKey>,
+        mode: Mode,
+        fresh: &mut BTreeSet<FaceId>,
+    ) {
+        let edges: Vec<EdgeKey> = edges
+            .into_iter()
+            .filter(|&e| !self.waiting(target.cloth, e, ctx.time))
+            .collect();
+        let params = RemeshParams::from_adapt(ctx.params);
+        for group in components(&target.cloth.mesh, &edges) {
+            if ctx.interrupted() {
+                return;
+            }
+            self.apply(target, ctx, &group, mode, &params, fresh);
+        }
+    }
+
     /// Re-meshes one component through the shared edit target; a refusal leaves the cloth as it
-    /// was and is counted, an energy refusal remembered (`t_simplify`, s: its first wait).
-    #[allow(clippy::too_many_arguments)]
+    /// was and is counted, an energy refusal remembered.
     fn apply(
         &mut self,
         target: &mut ClothTarget,
-        now: Real,
+        ctx: &AdaptContext,
         edges: &[EdgeKey],
         mode: Mode,
         params: &RemeshParams,
-        t_simplify: Real,
         fresh: &mut BTreeSet<FaceId>,
     ) {
+        let now = ctx.time;
         if self.refused_under.as_ref() != Some(params) {
             self.refused_plans.clear();
             self.refused_under = Some(*params);
@@ -263,6 +263,7 @@ impl Remesh {
                 self.counters.refused += 1;
                 if let RemeshError::AddsEnergy { gain, .. } = e {
                     self.counters.energy_refused += 1;
+                    let t_simplify = ctx.params.t_simplify;
                     self.remember_refusal(&target.cloth.mesh, edges, now, gain, t_simplify);
                 }
                 self.counters.last_refusal = e.to_string();
@@ -292,30 +293,10 @@ impl Adaptivity for Remesh {
                 now: ctx.time,
             },
         );
-        let params = RemeshParams::from_adapt(spec);
         let mut target = ctx.edit_target(cloth);
         let mut fresh = BTreeSet::new();
-        let refine: Vec<EdgeKey> = selection
-            .refine
-            .iter()
-            .map(|(e, _)| *e)
-            .filter(|&e| !self.waiting(target.cloth, e, ctx.time))
-            .collect();
-        for group in components(&target.cloth.mesh, &refine) {
-            if ctx.interrupted() {
-                return Ok(target.report);
-            }
-            let mode = Mode::Refine;
-            self.apply(
-                &mut target,
-                ctx.time,
-                &group,
-                mode,
-                &params,
-                spec.t_simplify,
-                &mut fresh,
-            );
-        }
+        let refine = selection.refine.iter().map(|(e, _)| *e);
+        self.apply_components(&mut target, ctx, refine, Mode::Refine, &mut fresh);
         // Simplify only what this pass did not just re-mesh.
         let simplify: Vec<EdgeKey> = selection
             .simplify
@@ -327,23 +308,10 @@ impl Adaptivity for Remesh {
                     .mesh
                     .edge(e.0, e.1)
                     .is_some_and(|ef| ef.iter().all(|f| !fresh.contains(&f)))
-                    && !self.waiting(target.cloth, *e, ctx.time)
             })
             .collect();
-        for group in components(&target.cloth.mesh, &simplify) {
-            if ctx.interrupted() {
-                break;
-            }
-            let mode = Mode::Simplify;
-            self.apply(
-                &mut target,
-                ctx.time,
-                &group,
-                mode,
-                &params,
-                spec.t_simplify,
-                &mut fresh,
-            );
+        if !ctx.interrupted() {
+            self.apply_components(&mut target, ctx, simplify, Mode::Simplify, &mut fresh);
         }
         Ok(target.report)
     }
