@@ -21,11 +21,13 @@
 //! (rigid motions: pose and velocity at a time), `faces`
 //! (obstacles against the cloth's triangles: the surface penetration),
 //! `cylinder_ray` (closed-form ray entry into a cylinder, in place of parry's GJK), `grid` (mesh
-//! signed-distance bounds), `error` ([`CollisionError`]).
+//! signed-distance bounds), `crossings` (the cloth's crossings with itself:
+//! [`self_intersections`]), `error` ([`CollisionError`]).
 //!
 //! Depths and distances are measured from the raw surface (margin not included): the promise
 //! "no penetration beyond the collision margin" reads `max_penetration <= margin`.
 
+mod crossings;
 mod cylinder_ray;
 mod error;
 mod faces;
@@ -38,6 +40,7 @@ mod shape;
 #[cfg(test)]
 mod tests;
 
+pub use crossings::self_intersections;
 pub use error::CollisionError;
 pub use faces::{FaceContactStats, FaceScratch};
 pub use motion::ObstacleMotion;

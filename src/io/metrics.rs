@@ -34,6 +34,9 @@ pub struct MetricsRow {
     pub max_penetration: Real,
     /// Largest depth of an obstacle through the cloth surface, faces included (m).
     pub max_surface_penetration: Real,
+    /// The cloth's crossings with itself (edge-face pairs sharing no vertex, the edge through the
+    /// face).
+    pub self_intersections: usize,
     /// Vertices in contact during the last step.
     pub contacts: usize,
     /// Adaptation events in the last step.
@@ -87,7 +90,7 @@ impl MetricsWriter {
         write!(
             out,
             "step,t,dt,vertices,edges,faces,min_mass,max_stiffness,total_mass,linear_momentum,\
-             kinetic_energy,max_penetration,max_surface_penetration,contacts,adapt_events,adapt_energy_change,gravity_energy,\
+             kinetic_energy,max_penetration,max_surface_penetration,self_intersections,contacts,adapt_events,adapt_energy_change,gravity_energy,\
              stretch_energy,bending_energy,total_energy,cg_iterations,cg_unconverged"
         )?;
         let mut used = Vec::new();
@@ -104,7 +107,7 @@ impl MetricsWriter {
     pub fn row(&mut self, r: &MetricsRow) -> std::io::Result<()> {
         write!(
             self.out,
-            "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{:.6e},{:.9e},\
+            "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{},{:.6e},{:.9e},\
              {:.9e},{:.9e},{:.9e},{},{}",
             r.step,
             r.t,
@@ -119,6 +122,7 @@ impl MetricsWriter {
             r.kinetic_energy,
             r.max_penetration,
             r.max_surface_penetration,
+            r.self_intersections,
             r.contacts,
             r.adapt_events,
             r.adapt_energy_change,

@@ -14,6 +14,15 @@ pub(crate) fn fmt_e(x: f64) -> String {
     }
 }
 
+/// A count, `-` when not measured (not finite).
+fn fmt_count(x: f64) -> String {
+    if x.is_finite() {
+        format!("{x:.0}")
+    } else {
+        "-".into()
+    }
+}
+
 /// A time (s) with a precision for its size, `-` when not finite.
 pub(crate) fn fmt_s(x: f64) -> String {
     if x.is_finite() {
@@ -32,12 +41,12 @@ pub(crate) fn fmt_s(x: f64) -> String {
 /// The comparison table (markdown).
 pub fn table(c: &Comparison) -> String {
     let mut s = String::from(
-        "| run | status | wall (s) | steps | mean / max vertices | e_rms (m) | e_final (m) | tracked (m) | Hausdorff (m) | max penetration: vertices / surface (m) |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+        "| run | status | wall (s) | steps | mean / max vertices | e_rms (m) | e_final (m) | tracked (m) | Hausdorff (m) | max penetration: vertices / surface (m) | self-intersections (max) |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
     );
     for r in &c.rows {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {:.0} / {} | {} | {} | {} | {} | {} / {} |",
+            "| {} | {} | {} | {} | {:.0} / {} | {} | {} | {} | {} | {} / {} | {} |",
             r.label,
             r.status,
             fmt_s(r.wall_s),
@@ -49,7 +58,8 @@ pub fn table(c: &Comparison) -> String {
             fmt_e(r.tracked_err),
             fmt_e(r.hausdorff),
             fmt_e(r.max_penetration),
-            fmt_e(r.max_surface_penetration)
+            fmt_e(r.max_surface_penetration),
+            fmt_count(r.max_self_intersections)
         );
     }
     let f = &c.manifest.reference.floor;

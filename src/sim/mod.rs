@@ -503,6 +503,18 @@ impl Simulation {
             .surface_penetration(&self.cloth.x, self.cloth.mesh.face_vertex_slots())
     }
 
+    /// The cloth's crossings with itself: edge-face pairs sharing no vertex where the edge passes
+    /// through the face ([`crate::collision::self_intersections`]).
+    pub fn self_intersections(&self) -> usize {
+        let mesh = &self.cloth.mesh;
+        let faces: Vec<[usize; 3]> = mesh.face_vertex_slots().collect();
+        let edges: Vec<[usize; 2]> = mesh
+            .edges()
+            .map(|(e, _)| [e.0 .0 as usize, e.1 .0 as usize])
+            .collect();
+        crate::collision::self_intersections(&self.cloth.x, &faces, &edges)
+    }
+
     /// Locates the tracked material points again after a mesh change.
     /// Call after editing `cloth.mesh` from outside the step (experiments, tests): rebuilds the
     /// spring and bending arrays and relocates the tracked points, as the step does after an

@@ -89,6 +89,9 @@ pub struct RunSummary {
     /// Largest depth of an obstacle through the cloth surface (faces included) over the recorded
     /// rows (m).
     pub max_surface_penetration: Real,
+    /// Largest count of the cloth's crossings with itself over the recorded rows
+    /// ([`Simulation::self_intersections`]).
+    pub max_self_intersections: usize,
     /// Steps whose linear solve ended above its tolerance (`implicit_euler`; 0 otherwise).
     pub cg_unconverged: u64,
     /// Steps whose direct solve failed and were solved by CG (`integrator.solver = "cholesky"`).
@@ -137,6 +140,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
     let mut conforming_version = None;
     let mut max_vertices = sim.cloth.mesh.vertex_count();
     let (mut max_penetration, mut max_surface_penetration): (Real, Real) = (0.0, 0.0);
+    let mut max_self_intersections = 0;
     let mut last = super::StepReport::default();
     let mut next_metrics = 0.0;
     let (mut status, mut message) = (RunStatus::Completed, String::new());
@@ -151,6 +155,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
             let row = metrics_row(sim, &last);
             max_penetration = max_penetration.max(row.max_penetration);
             max_surface_penetration = max_surface_penetration.max(row.max_surface_penetration);
+            max_self_intersections = max_self_intersections.max(row.self_intersections);
             if let Some(Err(e)) = metrics.as_mut().map(|m| m.row(&row)) {
                 (status, message) = write_failure(sim, &metrics_path, e);
                 metrics = None;
@@ -265,6 +270,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         frames,
         max_penetration,
         max_surface_penetration,
+        max_self_intersections,
         cg_unconverged: sim.solves.unconverged,
         solver_fallbacks: sim.solves.fallbacks,
         status,
@@ -360,6 +366,7 @@ fn metrics_row(sim: &Simulation, last: &super::StepReport) -> MetricsRow {
         kinetic_energy: cloth.kinetic_energy(),
         max_penetration: sim.max_penetration(),
         max_surface_penetration: sim.max_surface_penetration(),
+        self_intersections: sim.self_intersections(),
         contacts: last.contacts.contacts,
         adapt_events: last.adapt.events,
         adapt_energy_change: last.adapt.kinetic_energy_change,

@@ -142,6 +142,7 @@ fn empty_row(base: &LoadedScene, c: &RunConfig) -> Row {
         hausdorff: f64::NAN,
         max_penetration: f64::NAN,
         max_surface_penetration: f64::NAN,
+        max_self_intersections: f64::NAN,
         status: "error".into(),
         resolution: c.resolution,
         sim_time: 0.0,
@@ -197,6 +198,7 @@ fn run_config(
     row.max_vertices = summary.max_vertices;
     row.max_penetration = summary.max_penetration;
     row.max_surface_penetration = summary.max_surface_penetration;
+    row.max_self_intersections = summary.max_self_intersections as f64;
     row.sim_time = summary.sim_time;
     let st = summary.stage_times;
     row.integrate_s = st.integrate_s;

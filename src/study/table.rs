@@ -125,6 +125,9 @@ comparison_row! {
     max_penetration: f64 => Format::Sci(6),
     /// Largest depth of an obstacle through the cloth surface, faces included (m).
     max_surface_penetration: f64 => Format::Sci(6),
+    /// Largest count of the cloth's crossings with itself over the metrics rows; NaN when not
+    /// measured (a table written before the measure existed).
+    max_self_intersections: f64 => Format::Plain,
     /// `completed`, `diverged`, `interrupted`, `failed`, or `error` (could not start).
     status: String => Format::Plain,
     /// Starting grid (vertices per side).
@@ -158,6 +161,10 @@ impl Row {
     }
 }
 
+/// Columns added after tables were first written: an older table without one reads it as NaN
+/// (not measured).
+const LATER_COLUMNS: &[&str] = &["max_self_intersections"];
+
 /// The column names of `comparison.csv`, in order.
 pub fn column_names() -> impl Iterator<Item = &'static str> {
     COLUMNS.iter().map(|(name, _)| *name)
@@ -185,19 +192,18 @@ pub fn read_csv(path: &Path) -> Result<Vec<Row>, StudyError> {
         .split(',')
         .collect();
     for name in column_names() {
-        if !header.contains(&name) {
+        if !header.contains(&name) && !LATER_COLUMNS.contains(&name) {
             return Err(bad(format!("no column {name}")));
         }
     }
     let mut rows = Vec::new();
     for (n, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
         let cells: Vec<&str> = line.split(',').collect();
-        let cell = |name: &str| {
-            header
-                .iter()
-                .position(|h| *h == name)
+        let cell = |name: &str| match header.iter().position(|h| *h == name) {
+            None if LATER_COLUMNS.contains(&name) => Ok("NaN"),
+            position => position
                 .and_then(|k| cells.get(k).copied())
-                .ok_or_else(|| "short row".to_string())
+                .ok_or_else(|| "short row".to_string()),
         };
         let row = Row::from_cells(cell).map_err(|e| bad(format!("line {}: {e}", n + 2)))?;
         // The label names the run's folder, which merge and report read and write.
@@ -327,6 +333,7 @@ pub(crate) mod tests {
             hausdorff: 0.03,
             max_penetration: 0.0,
             max_surface_penetration: 0.0,
+            max_self_intersections: 0.0,
             status: "completed".into(),
             resolution: 5,
             sim_time: 0.6,
