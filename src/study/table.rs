@@ -412,6 +412,34 @@ pub(crate) mod tests {
         assert_eq!(read_csv(&p).unwrap()[1].label, "static-9-rk4");
     }
 
+    /// A table written before `max_self_intersections` existed reads it as not measured (NaN);
+    /// a table with the column reads its value.
+    #[test]
+    fn an_older_table_without_the_self_intersections_reads_them_as_not_measured() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("c.csv");
+        let mut r = row("static-5-rk4");
+        r.max_self_intersections = 3.0;
+        write_csv(&p, &[r]).unwrap();
+        assert_eq!(read_csv(&p).unwrap()[0].max_self_intersections, 3.0);
+        let text = std::fs::read_to_string(&p).unwrap();
+        let k = column_names()
+            .position(|c| c == "max_self_intersections")
+            .unwrap();
+        let older: String = text
+            .lines()
+            .map(|l| {
+                let mut cells: Vec<&str> = l.split(',').collect();
+                cells.remove(k);
+                cells.join(",") + "\n"
+            })
+            .collect();
+        std::fs::write(&p, older).unwrap();
+        let back = read_csv(&p).unwrap();
+        assert!(back[0].max_self_intersections.is_nan());
+        assert_eq!(back[0].label, "static-5-rk4");
+    }
+
     #[test]
     fn bad_cells_name_the_line_and_the_column() {
         let dir = tempfile::tempdir().unwrap();
