@@ -19,7 +19,7 @@ fn orient(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Real {
 
 /// Whether the segment `p -> q` passes through the interior of the triangle `tri` (strict
 /// inequalities: touching, grazing or coplanar is no crossing).
-pub(crate) fn segment_crosses_triangle(p: Vec3, q: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
+fn segment_crosses_triangle(p: Vec3, q: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
     let (sp, sq) = (orient(a, b, c, p), orient(a, b, c, q));
     if !(sp > 0.0 && sq < 0.0 || sp < 0.0 && sq > 0.0) {
         return false;
@@ -31,7 +31,6 @@ pub(crate) fn segment_crosses_triangle(p: Vec3, q: Vec3, [a, b, c]: [Vec3; 3]) -
 /// Most grid cells per face on average: the cell grows until the grid has at most this many
 /// cells per face.
 const CELLS_PER_FACE: usize = 4;
-const CELL_FACTOR: Real = 1.0;
 
 /// Counts the crossings of the mesh with faces `faces` and edges `edges` (vertex slots) at
 /// positions `x` (m): pairs of an edge and a face sharing no vertex where the edge passes through
@@ -105,7 +104,7 @@ impl FaceGrid {
             extent_sum += (b - a).max();
         }
         let span = (hi - lo).max();
-        let mut cell = (CELL_FACTOR * extent_sum / live.len() as Real).max(span * 1e-9);
+        let mut cell = (extent_sum / live.len() as Real).max(span * 1e-9);
         if cell.is_nan() || cell <= 0.0 {
             cell = 1.0; // every face is a point
         }
@@ -126,7 +125,7 @@ impl FaceGrid {
         let face_cells: Vec<(Cell, Cell)> = boxes.iter().map(|&(a, b)| grid.cells(a, b)).collect();
         for &(a, b) in &face_cells {
             let start = &mut grid.start;
-            for_each_cell(grid.dims, a, b, |c| start[c + 1] += 1);
+            for_each_cell(grid.dims, a, b, |c, _| start[c + 1] += 1);
         }
         for c in 0..grid.start.len() - 1 {
             grid.start[c + 1] += grid.start[c];
@@ -135,7 +134,7 @@ impl FaceGrid {
         grid.items = vec![0; grid.start[grid.start.len() - 1]];
         for (k, &(a, b)) in face_cells.iter().enumerate() {
             let (dims, items) = (grid.dims, &mut grid.items);
-            for_each_cell(dims, a, b, |c| {
+            for_each_cell(dims, a, b, |c, _| {
                 items[fill[c]] = k;
                 fill[c] += 1;
             });
@@ -160,25 +159,20 @@ impl FaceGrid {
     /// the listed faces), with the cell's coordinates (a face in several cells comes once per
     /// cell).
     fn visit(&self, lo: Cell, hi: Cell, mut f: impl FnMut(usize, Cell)) {
-        for k in lo.z..=hi.z {
-            for j in lo.y..=hi.y {
-                for i in lo.x..=hi.x {
-                    let c = i + self.dims[0] * (j + self.dims[1] * k);
-                    for &face in &self.items[self.start[c]..self.start[c + 1]] {
-                        f(face, Cell::new(i, j, k));
-                    }
-                }
+        for_each_cell(self.dims, lo, hi, |c, cell| {
+            for &face in &self.items[self.start[c]..self.start[c + 1]] {
+                f(face, cell);
             }
-        }
+        });
     }
 }
 
-/// Calls `f` with the index of every cell from `lo` to `hi` of a grid of `dims` cells.
-fn for_each_cell(dims: [usize; 3], lo: Cell, hi: Cell, mut f: impl FnMut(usize)) {
+/// Calls `f(index, cell)` for every cell from `lo` to `hi` of a grid of `dims` cells.
+fn for_each_cell(dims: [usize; 3], lo: Cell, hi: Cell, mut f: impl FnMut(usize, Cell)) {
     for k in lo.z..=hi.z {
         for j in lo.y..=hi.y {
             for i in lo.x..=hi.x {
-                f(i + dims[0] * (j + dims[1] * k));
+                f(i + dims[0] * (j + dims[1] * k), Cell::new(i, j, k));
             }
         }
     }
