@@ -36,6 +36,7 @@ mod motion;
 #[cfg(test)]
 mod motion_tests;
 mod params;
+mod self_contact;
 mod shape;
 #[cfg(test)]
 mod tests;
@@ -45,6 +46,7 @@ pub use error::CollisionError;
 pub use faces::{FaceContactStats, FaceScratch};
 pub use motion::ObstacleMotion;
 pub use params::{ContactParams, Obstacle, ObstacleShape};
+pub use self_contact::{SelfContact, SelfContactStats, SelfContactTotals};
 
 use crate::math::{Real, Vec3};
 use parry3d_f64::math::Vector;

@@ -15,7 +15,7 @@
 //! scene's frames.
 
 use super::metrics::{self, ErrorReport};
-use crate::scene::{ClothShape, IntegratorSpec, LoadedScene, ObstacleShape, Scene};
+use crate::scene::{ClothShape, CollisionSpec, IntegratorSpec, LoadedScene, ObstacleShape, Scene};
 use crate::sim::{self, RunOptions, RunStatus, RunSummary, SamplePoints, Simulation, Trajectory};
 use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
@@ -216,22 +216,26 @@ pub fn static_variant(
 
 /// The physics parameters of a scene as they enter the key: name, description and the metrics
 /// rate normalised away, and the adaptivity section left out (a reference is static, and new
-/// adaptivity keys must not invalidate cached references). Integrator keys added after the cache
-/// format ([`LATER_INTEGRATOR_KEYS`]) are left out at their default values, so the references
-/// cached before they existed keep their keys; a non-default value still changes the key.
+/// adaptivity keys must not invalidate cached references). Keys added after the cache format
+/// ([`LATER_KEYS`]) are left out at their default values, so the references cached before they
+/// existed keep their keys; a non-default value still changes the key.
 pub fn physics_json(scene: &Scene) -> serde_json::Value {
     let mut s = scene.clone();
     s.name.clear();
     s.description.clear();
     s.time.metrics_rate = 0.0;
     let mut value = serde_json::to_value(&s).expect("a scene serializes");
-    let defaults = serde_json::to_value(IntegratorSpec::default()).expect("serializes");
+    let defaults = serde_json::json!({
+        "integrator": IntegratorSpec::default(),
+        "collision": CollisionSpec::default(),
+    });
     if let Some(fields) = value.as_object_mut() {
         fields.remove("adaptivity");
-        if let Some(integrator) = fields.get_mut("integrator").and_then(|i| i.as_object_mut()) {
-            for key in LATER_INTEGRATOR_KEYS {
-                if integrator.get(key) == defaults.get(key) {
-                    integrator.remove(key);
+        for (section, key) in LATER_KEYS {
+            let default = defaults.get(section).and_then(|d| d.get(key));
+            if let Some(table) = fields.get_mut(section).and_then(|t| t.as_object_mut()) {
+                if table.get(key) == default {
+                    table.remove(key);
                 }
             }
         }
@@ -239,9 +243,14 @@ pub fn physics_json(scene: &Scene) -> serde_json::Value {
     value
 }
 
-/// `[integrator]` keys that came after cached references existed (issue 13): they enter
-/// [`physics_json`] only when set to a non-default value.
-const LATER_INTEGRATOR_KEYS: [&str; 2] = ["solver", "on_unconverged"];
+/// `(section, key)` of the keys that came after cached references existed (issues 13 and 16):
+/// they enter [`physics_json`] only when set to a non-default value.
+const LATER_KEYS: [(&str, &str); 4] = [
+    ("integrator", "solver"),
+    ("integrator", "on_unconverged"),
+    ("collision", "self"),
+    ("collision", "thickness"),
+];
 
 /// The cache key of the reference of `base` under `settings` (16 hex digits).
 pub fn cache_key(base: &LoadedScene, settings: &ReferenceSettings) -> String {

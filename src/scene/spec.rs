@@ -336,7 +336,17 @@ pub struct CollisionSpec {
     pub restitution: Real,
     /// What of the cloth meets the obstacles. Default `face`.
     pub mode: CollisionMode,
+    /// `self`: whether the cloth collides with itself (proximity impulses, the swept test and
+    /// impact zones, docs/model-notes.md). Default false: a scene pays for it only when on.
+    #[serde(rename = "self")]
+    pub self_collision: bool,
+    /// Cloth thickness for self-collision (m): pairs of the cloth closer than this are pushed
+    /// apart. Default 2e-3.
+    pub thickness: Real,
 }
+
+/// The default cloth thickness (m).
+pub const DEFAULT_THICKNESS: Real = 2e-3;
 
 impl Default for CollisionSpec {
     fn default() -> Self {
@@ -344,6 +354,8 @@ impl Default for CollisionSpec {
             margin: 2e-3,
             restitution: 0.5,
             mode: CollisionMode::Face,
+            self_collision: false,
+            thickness: DEFAULT_THICKNESS,
         }
     }
 }

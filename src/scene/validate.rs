@@ -18,6 +18,8 @@ enum Range {
 /// overflow (a 1e-200 m or 1e308 m cloth passed the old check and panicked later).
 const MIN_LENGTH: Real = 1e-6;
 const MAX_LENGTH: Real = 1e6;
+/// Largest cloth thickness for self-collision (m): every pair closer than it is tested each step.
+const MAX_THICKNESS: Real = 0.05;
 
 /// Most output frames a run may ask for (`duration x frame_rate`).
 const MAX_FRAMES: Real = 1e5;
@@ -344,6 +346,14 @@ pub(super) fn validate(
     }
     c.non_negative("collision.margin", scene.collision.margin)?;
     c.open_unit("collision.restitution", scene.collision.restitution)?;
+    let thickness = scene.collision.thickness;
+    if !(thickness > 0.0 && thickness <= MAX_THICKNESS) {
+        return Err(c.fail(
+            "collision.thickness",
+            thickness,
+            &format!("expected a thickness in (0, {MAX_THICKNESS}] m (cloth is thin)"),
+        ));
+    }
 
     for (i, o) in scene.obstacles.iter().enumerate() {
         let key = |k: &str| format!("obstacles.{i}.{k}");

@@ -14,7 +14,7 @@ pub use setup::{build_cloth, SetupError};
 
 use crate::adapt::{AdaptContext, AdaptParams, AdaptReport, Adaptivity};
 use crate::cloth::Cloth;
-use crate::collision::{ContactStats, FaceScratch, Obstacles};
+use crate::collision::{ContactStats, FaceScratch, Obstacles, SelfContact, SelfContactTotals};
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{Barycentric, RestLocator};
 use crate::physics::{
@@ -36,8 +36,10 @@ use std::time::{Duration, Instant};
 pub struct StageTimes {
     /// Integration (force evaluations included), s.
     pub integrate_s: f64,
-    /// Collision pass, s.
+    /// Collision pass (obstacles and self-collision), s.
     pub collide_s: f64,
+    /// The self-collision part of `collide_s`, s.
+    pub self_collide_s: f64,
     /// Adaptivity (criteria and edits), s.
     pub adapt_s: f64,
     /// Rebuilding element arrays after a mesh change, s.
@@ -151,6 +153,10 @@ pub struct Simulation {
     interrupt: Option<Arc<AtomicBool>>,
     /// Linear solves that ended above their tolerance so far.
     pub solves: SolveCounts,
+    /// Self-collision (`collision.self = true`).
+    self_contact: Option<SelfContact>,
+    /// What self-collision did so far.
+    pub self_contact_totals: SelfContactTotals,
 }
 
 impl Simulation {
@@ -200,6 +206,12 @@ impl Simulation {
             stage_times: StageTimes::default(),
             interrupt: None,
             solves: SolveCounts::default(),
+            self_contact: loaded
+                .scene
+                .collision
+                .self_collision
+                .then(|| SelfContact::new(loaded.scene.collision.thickness)),
+            self_contact_totals: SelfContactTotals::default(),
         })
     }
 
@@ -369,6 +381,7 @@ impl Simulation {
             stats
         };
         self.contact_seen |= contacts.contacts > 0;
+        self.self_collide(dt);
         self.stage_times.collide_s += secs(clock.elapsed());
         self.t += dt;
         self.steps += 1;
@@ -465,6 +478,28 @@ impl Simulation {
                 &mut self.faces.2,
             )
             .contacts
+    }
+
+    /// The self-collision pass of a step of `dt` (s) when `collision.self = true`
+    /// ([`SelfContact::respond`]), after the obstacles' response.
+    fn self_collide(&mut self, dt: Real) {
+        let Some(contact) = &mut self.self_contact else {
+            return;
+        };
+        let clock = Instant::now();
+        let cloth = &mut self.cloth;
+        let stats = contact.respond(
+            cloth.mesh.version(),
+            cloth.mesh.face_vertex_slots(),
+            &self.x_start,
+            &mut cloth.x,
+            &mut cloth.v,
+            cloth.model.inv_mass(),
+            self.scene.material.mu,
+            dt,
+        );
+        self.self_contact_totals.add(&stats);
+        self.stage_times.self_collide_s += secs(clock.elapsed());
     }
 
     /// Whether the adapt stage runs this step: always for the first pass, then once at least

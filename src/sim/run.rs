@@ -96,6 +96,9 @@ pub struct RunSummary {
     pub cg_unconverged: u64,
     /// Steps whose direct solve failed and were solved by CG (`integrator.solver = "cholesky"`).
     pub solver_fallbacks: u64,
+    /// What self-collision did, when `collision.self = true`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub self_contact: Option<crate::collision::SelfContactTotals>,
     /// How the run ended.
     pub status: RunStatus,
     /// Why it stopped, when not completed.
@@ -273,6 +276,11 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         max_self_intersections,
         cg_unconverged: sim.solves.unconverged,
         solver_fallbacks: sim.solves.fallbacks,
+        self_contact: sim
+            .scene
+            .collision
+            .self_collision
+            .then_some(sim.self_contact_totals),
         status,
         message,
         stage_times: sim.stage_times,

@@ -1,0 +1,367 @@
+//! Self-collision: the cloth's response to itself (Bridson, Fedkiw & Anderson 2002, MODEL.md
+//! §10.2), run after the obstacle response of each step on the step's motion `x_start -> x`.
+//!
+//! 1. **Proximity**: every vertex-face and edge-edge pair closer than the thickness `h` at the
+//!    step's start gets an impulse along the line between its closest points, so its relative
+//!    normal velocity is at least `REPULSION (h - d) / dt` (an approaching pair stops, a pair
+//!    too close is eased apart over a few steps), with Coulomb friction `mu` on the tangential
+//!    relative velocity.
+//! 2. **Swept test**: over the straight motion of the step, every pair that becomes coplanar
+//!    while its closest points meet (within `CCD_TOLERANCE h`) is a crossing; an impulse along
+//!    the normal at that moment makes the pair end at least `CCD_SEPARATION h` apart along it.
+//!    Repeated up to [`CCD_ROUNDS`] times while crossings are found.
+//! 3. **Impact zones**: crossings left after those rounds merge their vertices into zones that
+//!    move rigidly ([`zones`]); repeated until none is left, and after [`ZONE_ROUNDS`] rounds the
+//!    whole cloth is one zone (a step taken rigidly, counted as a fallback).
+//!
+//! Impulses are spread over a pair's four vertices with weights `w_i` and inverse masses, so the
+//! relative velocity changes by exactly the wanted amount and the linear momentum is kept. The
+//! start positions are assumed free of crossings (the cloth starts flat and every step keeps it
+//! so); a pair is tested only when its boxes over the step's motion meet ([`tree`]).
+//!
+//! Files: `geometry` (closest points, coplanarity times), `tree` (the bounding-volume hierarchy
+//! over faces), `zones` (rigid impact zones).
+
+mod geometry;
+#[cfg(test)]
+mod tests;
+mod tree;
+mod zones;
+
+use super::apply_friction;
+use super::shape::{to_glam, to_na};
+use crate::math::{Real, Vec3};
+use geometry::{closest_between_segments, closest_on_triangle, coplanar_times, Stencil};
+use tree::{bounds_of, overlap, FaceTree};
+use zones::Zones;
+
+/// Fraction of the missing distance `h - d` a too-close pair is pushed apart by in one step.
+const REPULSION: Real = 0.1;
+/// A pair whose closest points are within this fraction of the thickness when coplanar crosses.
+const CCD_TOLERANCE: Real = 1e-3;
+/// Distance, as a fraction of the thickness, a crossing pair is left apart at the step's end.
+const CCD_SEPARATION: Real = 0.1;
+/// Rounds of the swept test with impulses before impact zones take over.
+pub const CCD_ROUNDS: usize = 8;
+/// Rounds of impact zones before the whole cloth moves as one.
+pub const ZONE_ROUNDS: usize = 64;
+
+/// What one self-contact pass did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct SelfContactStats {
+    /// Pairs closer than the thickness at the step's start that got a repulsion impulse.
+    pub proximities: usize,
+    /// Crossings found by the swept test and answered by an impulse.
+    pub crossings: usize,
+    /// Vertices moved rigidly in impact zones.
+    pub zone_vertices: usize,
+    /// Whether the whole cloth had to move rigidly (impact zones did not settle).
+    pub fallback: bool,
+}
+
+/// Self-contact over a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct SelfContactTotals {
+    /// Pairs closer than the thickness that got a repulsion impulse, summed over steps.
+    pub proximities: u64,
+    /// Crossings found by the swept test and answered by an impulse, summed over steps.
+    pub crossings: u64,
+    /// Steps that needed rigid impact zones.
+    pub zone_steps: u64,
+    /// Steps in which the whole cloth moved rigidly (the fail-safe).
+    pub fallbacks: u64,
+}
+
+impl SelfContactTotals {
+    /// Adds one pass.
+    pub fn add(&mut self, s: &SelfContactStats) {
+        self.proximities += s.proximities as u64;
+        self.crossings += s.crossings as u64;
+        self.zone_steps += u64::from(s.zone_vertices > 0);
+        self.fallbacks += u64::from(s.fallback);
+    }
+}
+
+/// One pair of cloth elements to test: a vertex and a face, or two edges (vertex slots).
+#[derive(Clone, Copy, Debug)]
+enum Pair {
+    VertexFace(usize, [usize; 3]),
+    EdgeEdge([usize; 2], [usize; 2]),
+}
+
+/// Self-collision of one cloth: its thickness, the tree over its faces (kept between steps
+/// while the mesh is unchanged) and scratch.
+pub struct SelfContact {
+    thickness: Real,
+    /// The mesh version the tree's faces were listed at.
+    version: Option<u64>,
+    tree: FaceTree,
+    pairs: Vec<Pair>,
+    zones: Zones,
+}
+
+impl SelfContact {
+    /// Self-collision with cloth thickness `thickness` (m, positive).
+    pub fn new(thickness: Real) -> SelfContact {
+        SelfContact {
+            thickness,
+            version: None,
+            tree: FaceTree::default(),
+            pairs: Vec::new(),
+            zones: Zones::default(),
+        }
+    }
+
+    /// The self-contact pass of one step of `dt` (s): `faces` are the live faces (vertex slots)
+    /// of mesh version `version` (listed again only when it changed), `x_start` the positions
+    /// at the step's start (m, free of crossings), `x` and `v` the positions (m) and velocities
+    /// (m/s) at its end, changed in place; vertices of zero inverse mass are never moved; `mu`
+    /// is the cloth's friction coefficient.
+    #[allow(clippy::too_many_arguments)]
+    pub fn respond(
+        &mut self,
+        version: u64,
+        faces: impl Iterator<Item = [usize; 3]>,
+        x_start: &[Vec3],
+        x: &mut [Vec3],
+        v: &mut [Vec3],
+        inv_mass: &[Real],
+        mu: Real,
+        dt: Real,
+    ) -> SelfContactStats {
+        if self.version != Some(version) {
+            self.tree.set_faces(faces);
+            self.version = Some(version);
+        }
+        let mut stats = SelfContactStats::default();
+        let h = self.thickness;
+        let mut motion = Motion {
+            x_start,
+            x,
+            v,
+            inv_mass,
+            dt,
+        };
+        // 1. Proximity at the step's start.
+        self.find_pairs(motion.x_start, motion.x, h);
+        for pair in &self.pairs {
+            stats.proximities += usize::from(motion.repel(*pair, h, mu));
+        }
+        // 2. The swept test, answered by impulses.
+        for _ in 0..CCD_ROUNDS {
+            self.find_pairs(motion.x_start, motion.x, CCD_TOLERANCE * h);
+            let mut found = 0;
+            for pair in &self.pairs {
+                if let Some(hit) = motion.first_crossing(*pair, CCD_TOLERANCE * h) {
+                    found += usize::from(motion.separate(&hit, CCD_SEPARATION * h));
+                }
+            }
+            stats.crossings += found;
+            if found == 0 {
+                return stats;
+            }
+        }
+        // 3. Rigid impact zones until no crossing is left.
+        self.zones.reset(motion.x.len());
+        for _ in 0..ZONE_ROUNDS {
+            self.find_pairs(motion.x_start, motion.x, CCD_TOLERANCE * h);
+            let mut found = false;
+            for pair in &self.pairs {
+                if let Some(hit) = motion.first_crossing(*pair, CCD_TOLERANCE * h) {
+                    if !self.zones.same_zone(hit.stencil.v) {
+                        found = true;
+                        for k in 1..4 {
+                            self.zones.union(hit.stencil.v[0], hit.stencil.v[k]);
+                        }
+                    }
+                }
+            }
+            if !found {
+                return stats;
+            }
+            stats.zone_vertices = self.move_zones(&mut motion);
+        }
+        // The fail-safe: the whole cloth as one zone.
+        let all = self.tree.vertices();
+        for &i in all {
+            self.zones.union(all[0], i);
+        }
+        stats.zone_vertices = self.move_zones(&mut motion);
+        stats.fallback = true;
+        stats
+    }
+
+    /// Moves the impact zones rigidly; returns the vertices they hold.
+    fn move_zones(&mut self, m: &mut Motion) -> usize {
+        let vertices = self.tree.vertices();
+        self.zones
+            .move_rigidly(vertices, m.x_start, m.x, m.v, m.inv_mass, m.dt)
+    }
+
+    /// Lists in `self.pairs` the vertex-face and edge-edge pairs sharing no vertex whose boxes
+    /// over the motion `x_start -> x`, grown by `pad` (m), meet.
+    fn find_pairs(&mut self, x_start: &[Vec3], x: &[Vec3], pad: Real) {
+        let tree = &mut self.tree;
+        tree.update(x_start, x, pad);
+        tree.find_pairs();
+        self.pairs.clear();
+        let swept = |points: &[usize]| {
+            let mut corners = [Vec3::zeros(); 4];
+            for (k, &i) in points.iter().enumerate() {
+                corners[2 * k] = x_start[i];
+                corners[2 * k + 1] = x[i];
+            }
+            bounds_of(&corners[..2 * points.len()], pad)
+        };
+        for &(a, b) in &tree.pairs {
+            for (f, g) in [(a, b), (b, a)] {
+                let face = tree.faces[g];
+                for &p in tree.vertices_of(f) {
+                    if !face.contains(&p) && overlap(&swept(&[p]), &tree.boxes[g]) {
+                        self.pairs.push(Pair::VertexFace(p, face));
+                    }
+                }
+            }
+            for &e1 in tree.edges_of(a) {
+                let box1 = swept(&e1);
+                for &e2 in tree.edges_of(b) {
+                    if !e2.contains(&e1[0]) && !e2.contains(&e1[1]) && overlap(&box1, &swept(&e2)) {
+                        self.pairs.push(Pair::EdgeEdge(e1, e2));
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A crossing found by the swept test: the pair's stencil at the moment it is coplanar, and the
+/// plane's unit normal then, turned toward the side the pair started on.
+struct Crossing {
+    stencil: Stencil,
+    normal: Vec3,
+}
+
+/// The step's motion being corrected: start positions, end positions and velocities.
+struct Motion<'a> {
+    x_start: &'a [Vec3],
+    x: &'a mut [Vec3],
+    v: &'a mut [Vec3],
+    inv_mass: &'a [Real],
+    dt: Real,
+}
+
+impl Motion<'_> {
+    /// The relative velocity of a stencil over the step (m/s).
+    fn relative_velocity(&self, s: &Stencil) -> Vec3 {
+        (s.combine(self.x) - s.combine(self.x_start)) / self.dt
+    }
+
+    /// Changes the stencil's relative velocity by `du` (m/s) with an impulse spread by its
+    /// weights and inverse masses (end positions and velocities both); false when every vertex
+    /// is pinned.
+    fn apply(&mut self, s: &Stencil, du: Vec3) -> bool {
+        let denominator: Real = (0..4).map(|k| s.w[k].powi(2) * self.inv_mass[s.v[k]]).sum();
+        if denominator <= 0.0 {
+            return false;
+        }
+        let impulse = du / denominator;
+        for k in 0..4 {
+            let dv = s.w[k] * self.inv_mass[s.v[k]] * impulse;
+            self.x[s.v[k]] += dv * self.dt;
+            self.v[s.v[k]] += dv;
+        }
+        true
+    }
+
+    /// The pair's stencil at the step's start positions: closest points.
+    fn stencil_at(&self, pair: Pair, y: &[Vec3]) -> Stencil {
+        match pair {
+            Pair::VertexFace(p, f) => {
+                let b = closest_on_triangle(y[p], y[f[0]], y[f[1]], y[f[2]]);
+                Stencil::vertex_face(p, f, b)
+            }
+            Pair::EdgeEdge(e1, e2) => {
+                let (s, t) = closest_between_segments(y[e1[0]], y[e1[1]], y[e2[0]], y[e2[1]]);
+                Stencil::edge_edge(e1, e2, s, t)
+            }
+        }
+    }
+
+    /// Proximity response of one pair closer than `h` (m) at the step's start; true when it
+    /// got an impulse.
+    fn repel(&mut self, pair: Pair, h: Real, mu: Real) -> bool {
+        let s = self.stencil_at(pair, self.x_start);
+        let gap = s.combine(self.x_start);
+        let d = gap.norm();
+        if d >= h || d <= 0.0 {
+            return false;
+        }
+        let n = gap / d;
+        let u = self.relative_velocity(&s);
+        let u_n = u.dot(&n);
+        let du_n = (REPULSION * (h - d) / self.dt - u_n).max(0.0);
+        if du_n <= 0.0 {
+            return false;
+        }
+        let u_t = u - n * u_n;
+        let du_t = to_na(apply_friction(to_glam(u_t), mu, du_n)) - u_t;
+        self.apply(&s, n * du_n + du_t)
+    }
+
+    /// The first moment in the step at which the pair is coplanar with its closest points
+    /// within `tolerance` (m), if any.
+    fn first_crossing(&self, pair: Pair, tolerance: Real) -> Option<Crossing> {
+        let v = match pair {
+            Pair::VertexFace(p, f) => [p, f[0], f[1], f[2]],
+            Pair::EdgeEdge(e1, e2) => [e1[0], e1[1], e2[0], e2[1]],
+        };
+        let x0 = v.map(|i| self.x_start[i]);
+        let dx = v.map(|i| self.x[i] - self.x_start[i]);
+        let (times, count) = coplanar_times(x0, dx);
+        for &t in &times[..count] {
+            let y = [0, 1, 2, 3].map(|k| x0[k] + dx[k] * t);
+            let (stencil, plane) = match pair {
+                Pair::VertexFace(p, f) => {
+                    let b = closest_on_triangle(y[0], y[1], y[2], y[3]);
+                    let plane = (y[2] - y[1]).cross(&(y[3] - y[1]));
+                    (Stencil::vertex_face(p, f, b), plane)
+                }
+                Pair::EdgeEdge(e1, e2) => {
+                    let (s, t) = closest_between_segments(y[0], y[1], y[2], y[3]);
+                    let plane = (y[1] - y[0]).cross(&(y[3] - y[2]));
+                    (Stencil::edge_edge(e1, e2, s, t), plane)
+                }
+            };
+            let gap: Vec3 = (0..4).map(|k| stencil.w[k] * y[k]).sum();
+            if gap.norm() > tolerance {
+                continue;
+            }
+            let gap_start = stencil.combine(self.x_start);
+            let plane = if plane.norm_squared() > 0.0 {
+                plane
+            } else {
+                gap_start
+            };
+            let Some(mut normal) = plane.try_normalize(0.0) else {
+                continue;
+            };
+            let side = normal.dot(&gap_start);
+            let approach = normal.dot(&(stencil.combine(self.x) - gap_start));
+            if side < 0.0 || side == 0.0 && approach > 0.0 {
+                normal = -normal;
+            }
+            return Some(Crossing { stencil, normal });
+        }
+        None
+    }
+
+    /// Answers a crossing: the pair's relative normal velocity becomes large enough for it to
+    /// end `separation` (m) apart along the normal; false when every vertex is pinned.
+    fn separate(&mut self, hit: &Crossing, separation: Real) -> bool {
+        let s = &hit.stencil;
+        let side = hit.normal.dot(&s.combine(self.x_start));
+        let u_n = self.relative_velocity(s).dot(&hit.normal);
+        let du_n = (separation - side) / self.dt - u_n;
+        du_n > 0.0 && self.apply(s, hit.normal * du_n)
+    }
+}

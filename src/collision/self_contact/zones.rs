@@ -1,0 +1,144 @@
+//! Rigid impact zones, the fail-safe of self-contact (Provot 1997; Bridson, Fedkiw & Anderson
+//! 2002, §7.4): vertices of contacts the impulses could not resolve are merged into zones, and
+//! each zone moves rigidly over the step with the linear and angular momentum of its vertices.
+//! A rigid motion keeps a zone as it was at the step's start, where it did not cross itself, so
+//! merging until no crossing is left always ends (at worst with one zone).
+
+use crate::math::{Mat3, Real, Vec3};
+use nalgebra::Rotation3;
+
+/// Union-find over vertex slots: which zone each vertex belongs to.
+#[derive(Default)]
+pub struct Zones {
+    parent: Vec<usize>,
+    /// Vertices of zones with more than one vertex, grouped by zone (scratch).
+    members: Vec<(usize, usize)>,
+}
+
+impl Zones {
+    /// Every vertex of `n` slots alone in its zone.
+    pub fn reset(&mut self, n: usize) {
+        self.parent.clear();
+        self.parent.extend(0..n);
+    }
+
+    /// The zone (a representative vertex) of vertex `i`.
+    pub fn find(&mut self, mut i: usize) -> usize {
+        while self.parent[i] != i {
+            self.parent[i] = self.parent[self.parent[i]];
+            i = self.parent[i];
+        }
+        i
+    }
+
+    /// Merges the zones of `a` and `b`.
+    pub fn union(&mut self, a: usize, b: usize) {
+        let (ra, rb) = (self.find(a), self.find(b));
+        if ra != rb {
+            self.parent[ra.max(rb)] = ra.min(rb);
+        }
+    }
+
+    /// Whether the four vertices are all in one zone (their contact moves rigidly: it cannot
+    /// cross).
+    pub fn same_zone(&mut self, v: [usize; 4]) -> bool {
+        let r = self.find(v[0]);
+        v[1..].iter().all(|&i| self.find(i) == r)
+    }
+
+    /// Moves every zone of more than one of `vertices` rigidly over the step `dt` (s): from its
+    /// start positions `x_start` (m), with the mass-weighted mean velocity and the angular
+    /// velocity of the step's velocities `(x - x_start) / dt`; `x` becomes the end position and
+    /// `v` (m/s) the rigid velocity there. A zone holding a vertex of zero inverse mass (pinned)
+    /// keeps those vertices' own motion and moves the others by their mean displacement.
+    /// Returns the number of vertices moved.
+    pub fn move_rigidly(
+        &mut self,
+        vertices: &[usize],
+        x_start: &[Vec3],
+        x: &mut [Vec3],
+        v: &mut [Vec3],
+        inv_mass: &[Real],
+        dt: Real,
+    ) -> usize {
+        let mut members = std::mem::take(&mut self.members);
+        members.clear();
+        members.extend(vertices.iter().map(|&i| (self.find(i), i)));
+        members.sort_unstable();
+        let mut moved = 0;
+        for zone in members.chunk_by(|a, b| a.0 == b.0) {
+            if zone.len() < 2 {
+                continue;
+            }
+            moved += zone.len();
+            let zone: Vec<usize> = zone.iter().map(|&(_, i)| i).collect();
+            if zone.iter().any(|&i| inv_mass[i] <= 0.0) {
+                translate_with_pins(&zone, x_start, x, v, inv_mass, dt);
+            } else {
+                move_zone(&zone, x_start, x, v, inv_mass, dt);
+            }
+        }
+        self.members = members;
+        moved
+    }
+}
+
+/// The rigid motion of a free zone: translation of its centre of mass, rotation `exp(omega dt)`
+/// about it, with `omega = I^-1 L` (inertia tensor and angular momentum about the centre at the
+/// start positions; a zone with a singular inertia, such as collinear points, does not turn).
+fn move_zone(
+    zone: &[usize],
+    x_start: &[Vec3],
+    x: &mut [Vec3],
+    v: &mut [Vec3],
+    inv_mass: &[Real],
+    dt: Real,
+) {
+    let mass = |i: usize| 1.0 / inv_mass[i];
+    let total: Real = zone.iter().map(|&i| mass(i)).sum();
+    let centre: Vec3 = zone.iter().map(|&i| mass(i) * x_start[i]).sum::<Vec3>() / total;
+    let velocity = |i: usize| (x[i] - x_start[i]) / dt;
+    let momentum: Vec3 = zone.iter().map(|&i| mass(i) * velocity(i)).sum();
+    let v_centre = momentum / total;
+    let mut angular = Vec3::zeros();
+    let mut inertia = Mat3::zeros();
+    for &i in zone {
+        let r = x_start[i] - centre;
+        angular += mass(i) * r.cross(&velocity(i));
+        inertia += mass(i) * (Mat3::identity() * r.norm_squared() - r * r.transpose());
+    }
+    let omega = inertia
+        .try_inverse()
+        .map_or(Vec3::zeros(), |inv| inv * angular);
+    let turn = Rotation3::new(omega * dt);
+    let centre_end = centre + v_centre * dt;
+    for &i in zone {
+        let r = turn * (x_start[i] - centre);
+        x[i] = centre_end + r;
+        v[i] = v_centre + omega.cross(&r);
+    }
+}
+
+/// A zone holding pinned vertices: they keep their motion; the others move by the pinned
+/// vertices' mean displacement.
+fn translate_with_pins(
+    zone: &[usize],
+    x_start: &[Vec3],
+    x: &mut [Vec3],
+    v: &mut [Vec3],
+    inv_mass: &[Real],
+    dt: Real,
+) {
+    let pins: Vec<usize> = zone
+        .iter()
+        .copied()
+        .filter(|&i| inv_mass[i] <= 0.0)
+        .collect();
+    let shift = pins.iter().map(|&i| x[i] - x_start[i]).sum::<Vec3>() / pins.len() as Real;
+    for &i in zone {
+        if inv_mass[i] > 0.0 {
+            x[i] = x_start[i] + shift;
+            v[i] = shift / dt;
+        }
+    }
+}
