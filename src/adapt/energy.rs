@@ -11,6 +11,7 @@
 //! only when it adds no energy, or when the touched vertices' relative kinetic energy can pay the
 //! gain (a momentum-neutral scaling, [`restore_kinetic_energy`]).
 
+use super::edit_crosses;
 use super::relax::relax;
 use super::transfer::{apply_checked_edit_with, restore_kinetic_energy, Transfer, TransferOptions};
 use crate::cloth::Cloth;
@@ -122,6 +123,7 @@ pub fn energy_trial(
     let before = sub.model.energies(&sub.x, &sub.v);
     let local_options = TransferOptions {
         obstacles: None,
+        refuse_crossings: false,
         ..*options
     };
     let transfer = apply_checked_edit_with(&mut sub, &local_edit, &local_options);
@@ -173,10 +175,23 @@ pub fn apply_edit_conserving(
             payable: trial.payable,
         });
     }
-    // `energy_trial` checked the edit on this mesh, unchanged since.
-    let mut transfer = apply_checked_edit_with(cloth, edit, options);
-    for ((v, _), &x) in transfer.record.added_vertices.iter().zip(&trial.positions) {
-        cloth.x[v.0 as usize] = options.obstacles.map_or(x, |o| o.push_out(x));
+    let positions: Vec<Vec3> = trial
+        .positions
+        .iter()
+        .map(|&x| options.obstacles.map_or(x, |o| o.push_out(x)))
+        .collect();
+    if options.refuse_crossings && edit_crosses(cloth, edit, &positions) {
+        return Err(ConservingError::Edit(EditError::CrossesCloth));
+    }
+    // `energy_trial` checked the edit on this mesh, unchanged since; the crossings were checked
+    // above with the positions the new vertices take.
+    let placed = TransferOptions {
+        refuse_crossings: false,
+        ..*options
+    };
+    let mut transfer = apply_checked_edit_with(cloth, edit, &placed);
+    for ((v, _), &x) in transfer.record.added_vertices.iter().zip(&positions) {
+        cloth.x[v.0 as usize] = x;
     }
     let payment = trial.payment();
     if payment > 0.0 {

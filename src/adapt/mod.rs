@@ -12,6 +12,7 @@
 //! no edit raises the total energy); `remesh` does.
 
 pub mod criteria;
+mod crossing_check;
 mod energy;
 #[cfg(test)]
 mod energy_tests;
@@ -22,6 +23,7 @@ mod target;
 mod transfer;
 
 pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
+pub use crossing_check::edit_crosses;
 pub use energy::{
     apply_edit_conserving, energy_trial, relative_kinetic_energy, ConservingError, EnergyTrial,
 };
@@ -68,6 +70,7 @@ impl AdaptContext<'_> {
                 obstacles: Some(self.obstacles),
                 restore_momentum: self.params.restore_momentum,
                 restore_energy: self.params.restore_energy,
+                refuse_crossings: self.params.refuse_crossings,
             },
         )
     }

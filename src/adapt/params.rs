@@ -21,6 +21,9 @@ pub enum Criteria {
 /// otherwise.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AdaptParams {
+    /// Refuse an edit whose new faces or edges would cross the cloth (set when the scene's
+    /// self-collision is on, `collision.self`). Default off.
+    pub refuse_crossings: bool,
     /// Restore the linear momentum of the touched vertices by a uniform velocity correction.
     /// Default on.
     pub restore_momentum: bool,
@@ -92,6 +95,7 @@ pub struct AdaptParams {
 impl Default for AdaptParams {
     fn default() -> Self {
         AdaptParams {
+            refuse_crossings: false,
             restore_momentum: true,
             restore_energy: false,
             criteria: Criteria::Source,

@@ -1,5 +1,6 @@
 //! The state-transfer service: applies one mesh edit and keeps the physics consistent.
 
+use super::edit_crosses;
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::{Real, Vec3};
@@ -27,6 +28,10 @@ pub struct TransferOptions<'a> {
     /// Restore the touched vertices' kinetic energy by the momentum-neutral correction of
     /// [`restore_kinetic_energy`] (MODEL.md §8.4 rule 6). Default off.
     pub restore_energy: bool,
+    /// Refuse the edit ([`EditError::CrossesCloth`], cloth unchanged) when its new faces or edges,
+    /// new vertices where they would be put, would cross the cloth ([`super::edit_crosses`]).
+    /// Default off.
+    pub refuse_crossings: bool,
 }
 
 /// Applies `edit` to the cloth (MODEL.md §6): the mesh edit is checked (the cloth is untouched on
@@ -47,6 +52,7 @@ pub fn apply_edit(
             obstacles,
             restore_momentum,
             restore_energy: false,
+            refuse_crossings: false,
         },
     )
 }
@@ -86,6 +92,7 @@ fn transfer(
         obstacles,
         restore_momentum,
         restore_energy,
+        refuse_crossings,
     } = *options;
     // Old vertices whose mass changes: every vertex of a removed face.
     let mut touched: Vec<VertexId> = edit
@@ -100,8 +107,17 @@ fn transfer(
     let interpolated: Vec<(Vec3, Vec3)> = edit
         .new_vertices
         .iter()
-        .map(|n| interpolate(cloth, n.origin))
+        .map(|n| {
+            let (x, v) = interpolate(cloth, n.origin);
+            (obstacles.map_or(x, |o| o.push_out(x)), v)
+        })
         .collect();
+    if refuse_crossings {
+        let positions: Vec<Vec3> = interpolated.iter().map(|(x, _)| *x).collect();
+        if edit_crosses(cloth, edit, &positions) {
+            return Err(EditError::CrossesCloth);
+        }
+    }
 
     let record = replace(&mut cloth.mesh, edit)?;
 
@@ -111,7 +127,6 @@ fn transfer(
         cloth.v[v.0 as usize] = Vec3::zeros();
     }
     for ((v, _), (x, vel)) in record.added_vertices.iter().zip(interpolated) {
-        let x = obstacles.map_or(x, |o| o.push_out(x));
         cloth.x[v.0 as usize] = x;
         cloth.v[v.0 as usize] = vel;
     }

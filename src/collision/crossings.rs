@@ -19,7 +19,7 @@ fn orient(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Real {
 
 /// Whether the segment `p -> q` passes through the interior of the triangle `tri` (strict
 /// inequalities: touching, grazing or coplanar is no crossing).
-fn segment_crosses_triangle(p: Vec3, q: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
+pub fn segment_crosses_triangle(p: Vec3, q: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
     let (sp, sq) = (orient(a, b, c, p), orient(a, b, c, q));
     if !(sp > 0.0 && sq < 0.0 || sp < 0.0 && sq > 0.0) {
         return false;

@@ -41,7 +41,7 @@ mod shape;
 #[cfg(test)]
 mod tests;
 
-pub use crossings::self_intersections;
+pub use crossings::{segment_crosses_triangle, self_intersections};
 pub use error::CollisionError;
 pub use faces::{FaceContactStats, FaceScratch};
 pub use motion::ObstacleMotion;

@@ -119,6 +119,11 @@ pub enum EditError {
     /// A pinned vertex would be removed.
     #[error("the edit would remove pinned vertex {0:?}")]
     RemovesPinned(VertexId),
+    /// The new faces or edges would cross the cloth (refused by the state transfer when
+    /// self-collision is on, `crate::adapt::TransferOptions::refuse_crossings`; never by the
+    /// mesh). A refusal, not a defect: the strategy skips the operation.
+    #[error("the edit would make the cloth cross itself")]
+    CrossesCloth,
 }
 
 impl Mesh {

@@ -178,6 +178,7 @@ impl From<&MotionSpec> for collision::ObstacleMotion {
 impl From<&AdaptivitySpec> for AdaptParams {
     fn from(a: &AdaptivitySpec) -> Self {
         AdaptParams {
+            refuse_crossings: false,
             restore_momentum: a.restore_momentum,
             restore_energy: a.restore_energy,
             criteria: match a.criteria {

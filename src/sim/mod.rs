@@ -192,7 +192,10 @@ impl Simulation {
             obstacles,
             integrator,
             strategy,
-            adapt_params: (&loaded.scene.adaptivity).into(),
+            adapt_params: AdaptParams {
+                refuse_crossings: loaded.scene.collision.self_collision,
+                ..(&loaded.scene.adaptivity).into()
+            },
             t: 0.0,
             steps: 0,
             tracked,
@@ -381,7 +384,7 @@ impl Simulation {
             stats
         };
         self.contact_seen |= contacts.contacts > 0;
-        self.self_collide(dt);
+        self.self_collide(dt, true);
         self.stage_times.collide_s += secs(clock.elapsed());
         self.t += dt;
         self.steps += 1;
@@ -438,9 +441,13 @@ impl Simulation {
             self.cloth.refresh();
             self.relocate_tracked();
             self.stage_times.rebuild_s += secs(clock.elapsed());
-            // New faces (a coarsened region over an obstacle) start outside, as new vertices do.
+            // New faces (a coarsened region over an obstacle) start outside, as new vertices do;
+            // with self-collision, that push is kept free of crossings (positions only).
             let clock = Instant::now();
+            self.x_start.clear();
+            self.x_start.extend_from_slice(&self.cloth.x);
             self.face_pass(false);
+            self.self_collide(dt, false);
             self.stage_times.collide_s += secs(clock.elapsed());
         }
         Ok(StepReport {
@@ -480,9 +487,10 @@ impl Simulation {
             .contacts
     }
 
-    /// The self-collision pass of a step of `dt` (s) when `collision.self = true`
-    /// ([`SelfContact::respond`]), after the obstacles' response.
-    fn self_collide(&mut self, dt: Real) {
+    /// The self-collision pass when `collision.self = true` ([`SelfContact::respond`]) on the
+    /// motion from `x_start` to the cloth's positions: a step of `dt` (s) after the obstacles'
+    /// response, velocities included when `velocities`, else a correction of positions only.
+    fn self_collide(&mut self, dt: Real, velocities: bool) {
         let Some(contact) = &mut self.self_contact else {
             return;
         };
@@ -493,7 +501,7 @@ impl Simulation {
             cloth.mesh.face_vertex_slots(),
             &self.x_start,
             &mut cloth.x,
-            &mut cloth.v,
+            velocities.then_some(&mut cloth.v[..]),
             cloth.model.inv_mass(),
             self.scene.material.mu,
             dt,

@@ -134,7 +134,7 @@ proptest! {
         let (m0, p0, e0) = (cloth.model.total_mass(), cloth.linear_momentum(), cloth.kinetic_energy());
         let area0 = cloth.mesh.pattern_area();
         let mut recorded = 0.0;
-        let options = TransferOptions { obstacles: None, restore_momentum: true, restore_energy };
+        let options = TransferOptions { obstacles: None, restore_momentum: true, restore_energy, refuse_crossings: false };
         for (i, (kind, pick)) in ops.into_iter().enumerate() {
             let mut target = Checked {
                 inner: ClothTarget { cloth: &mut cloth, options, report: AdaptReport::default() },

@@ -28,7 +28,7 @@ use crate::adapt::{
 };
 use crate::cloth::Cloth;
 use crate::math::Real;
-use crate::mesh::{EdgeKey, Mesh, VertexId};
+use crate::mesh::{EdgeKey, EditError, Mesh, VertexId};
 
 /// Newest-vertex bisection on the 4-8 mesh (MODEL.md §8.4).
 #[derive(Clone, Debug, Default)]
@@ -141,7 +141,8 @@ impl Adaptivity for Bisect48 {
                             self.born[i] = ctx.time;
                         }
                     }
-                    Err(OpError::MaxLevel { .. }) => {}
+                    // At the depth limit, or refused because the new faces would cross the cloth.
+                    Err(OpError::MaxLevel { .. } | OpError::Edit(EditError::CrossesCloth)) => {}
                     Err(other) => return Err(Self::error(other)),
                 }
             }
@@ -170,7 +171,11 @@ impl Adaptivity for Bisect48 {
             if !all_selected {
                 continue;
             }
-            labels.merge(&mut target, p).map_err(Self::error)?;
+            match labels.merge(&mut target, p) {
+                // Refused: the merged faces would cross the cloth.
+                Ok(_) | Err(OpError::Edit(EditError::CrossesCloth)) => {}
+                Err(other) => return Err(Self::error(other)),
+            }
         }
         Ok(target.report)
     }

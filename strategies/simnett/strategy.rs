@@ -20,7 +20,7 @@ use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, Ed
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::Real;
-use crate::mesh::{EdgeKey, Mesh, VertexId};
+use crate::mesh::{EdgeKey, EditError, Mesh, VertexId};
 use std::collections::BTreeSet;
 
 /// The 1-to-4 edge-based strategy of Simnett et al. 2009. The hierarchy is built from the mesh at
@@ -128,7 +128,7 @@ impl Adaptivity for Simnett {
                         }
                     }
                 }
-                Err(OpError::Edit(err)) => return Err(err.into()),
+                Err(OpError::Edit(err)) if err != EditError::CrossesCloth => return Err(err.into()),
                 // A precondition: blocked by the faithful rule, at the maximum depth, already
                 // split by an earlier operation of this call, or not a hierarchy edge.
                 Err(_) => {}
@@ -140,7 +140,7 @@ impl Adaptivity for Simnett {
             }
             match h.merge_edge(&mut target, p, now) {
                 Ok(_) => {}
-                Err(OpError::Edit(err)) => return Err(err.into()),
+                Err(OpError::Edit(err)) if err != EditError::CrossesCloth => return Err(err.into()),
                 Err(_) => {}
             }
         }

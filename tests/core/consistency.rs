@@ -62,7 +62,7 @@ fn refine_left_half(sim: &mut Simulation) {
         TransferOptions {
             obstacles: None,
             restore_momentum: true,
-            restore_energy: false,
+            ..TransferOptions::default()
         },
     );
     for e in edges {

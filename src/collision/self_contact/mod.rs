@@ -116,7 +116,9 @@ impl SelfContact {
     /// of mesh version `version` (listed again only when it changed), `x_start` the positions
     /// at the step's start (m, free of crossings), `x` and `v` the positions (m) and velocities
     /// (m/s) at its end, changed in place; vertices of zero inverse mass are never moved; `mu`
-    /// is the cloth's friction coefficient.
+    /// is the cloth's friction coefficient. Without `v`, positions only: a correction of
+    /// positions (`x_start -> x`, such as the obstacles' push after an adaptation) made free of
+    /// crossings, `dt` then only a scale that cancels.
     #[allow(clippy::too_many_arguments)]
     pub fn respond(
         &mut self,
@@ -124,7 +126,7 @@ impl SelfContact {
         faces: impl Iterator<Item = [usize; 3]>,
         x_start: &[Vec3],
         x: &mut [Vec3],
-        v: &mut [Vec3],
+        v: Option<&mut [Vec3]>,
         inv_mass: &[Real],
         mu: Real,
         dt: Real,
@@ -194,8 +196,14 @@ impl SelfContact {
     /// Moves the impact zones rigidly; returns the vertices they hold.
     fn move_zones(&mut self, m: &mut Motion) -> usize {
         let vertices = self.tree.vertices();
-        self.zones
-            .move_rigidly(vertices, m.x_start, m.x, m.v, m.inv_mass, m.dt)
+        self.zones.move_rigidly(
+            vertices,
+            m.x_start,
+            m.x,
+            m.v.as_deref_mut(),
+            m.inv_mass,
+            m.dt,
+        )
     }
 
     /// Lists in `self.pairs` the vertex-face and edge-edge pairs sharing no vertex whose boxes
@@ -241,11 +249,12 @@ struct Crossing {
     normal: Vec3,
 }
 
-/// The step's motion being corrected: start positions, end positions and velocities.
+/// The step's motion being corrected: start positions, end positions and velocities (none for a
+/// correction of positions only).
 struct Motion<'a> {
     x_start: &'a [Vec3],
     x: &'a mut [Vec3],
-    v: &'a mut [Vec3],
+    v: Option<&'a mut [Vec3]>,
     inv_mass: &'a [Real],
     dt: Real,
 }
@@ -268,7 +277,9 @@ impl Motion<'_> {
         for k in 0..4 {
             let dv = s.w[k] * self.inv_mass[s.v[k]] * impulse;
             self.x[s.v[k]] += dv * self.dt;
-            self.v[s.v[k]] += dv;
+            if let Some(v) = self.v.as_deref_mut() {
+                v[s.v[k]] += dv;
+            }
         }
         true
     }

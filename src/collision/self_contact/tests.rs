@@ -69,7 +69,7 @@ fn step(
         faces.iter().copied(),
         x,
         &mut x_end,
-        &mut v_end,
+        Some(&mut v_end),
         &inv_mass,
         0.3,
         dt,
@@ -148,7 +148,7 @@ fn pinned_vertices_never_move() {
         faces.iter().copied(),
         &x,
         &mut x_end,
-        &mut v_end,
+        Some(&mut v_end),
         &inv_mass,
         0.3,
         dt,
@@ -182,7 +182,7 @@ fn impact_zones_move_rigidly_and_keep_momentum() {
     for k in 1..4 {
         zones.union(0, k);
     }
-    let moved = zones.move_rigidly(&[0, 1, 2, 3], &x_start, &mut x, &mut v, &inv_mass, dt);
+    let moved = zones.move_rigidly(&[0, 1, 2, 3], &x_start, &mut x, Some(&mut v), &inv_mass, dt);
     assert_eq!(moved, 4);
     for i in 0..4 {
         for j in 0..4 {

@@ -49,7 +49,7 @@ impl Zones {
     /// Moves every zone of more than one of `vertices` rigidly over the step `dt` (s): from its
     /// start positions `x_start` (m), with the mass-weighted mean velocity and the angular
     /// velocity of the step's velocities `(x - x_start) / dt`; `x` becomes the end position and
-    /// `v` (m/s) the rigid velocity there. A zone holding a vertex of zero inverse mass (pinned)
+    /// `v` (m/s, when given) the rigid velocity there. A zone holding a vertex of zero inverse mass (pinned)
     /// keeps those vertices' own motion and moves the others by their mean displacement.
     /// Returns the number of vertices moved.
     pub fn move_rigidly(
@@ -57,7 +57,7 @@ impl Zones {
         vertices: &[usize],
         x_start: &[Vec3],
         x: &mut [Vec3],
-        v: &mut [Vec3],
+        mut v: Option<&mut [Vec3]>,
         inv_mass: &[Real],
         dt: Real,
     ) -> usize {
@@ -73,9 +73,9 @@ impl Zones {
             moved += zone.len();
             let zone: Vec<usize> = zone.iter().map(|&(_, i)| i).collect();
             if zone.iter().any(|&i| inv_mass[i] <= 0.0) {
-                translate_with_pins(&zone, x_start, x, v, inv_mass, dt);
+                translate_with_pins(&zone, x_start, x, v.as_deref_mut(), inv_mass, dt);
             } else {
-                move_zone(&zone, x_start, x, v, inv_mass, dt);
+                move_zone(&zone, x_start, x, v.as_deref_mut(), inv_mass, dt);
             }
         }
         self.members = members;
@@ -90,7 +90,7 @@ fn move_zone(
     zone: &[usize],
     x_start: &[Vec3],
     x: &mut [Vec3],
-    v: &mut [Vec3],
+    mut v: Option<&mut [Vec3]>,
     inv_mass: &[Real],
     dt: Real,
 ) {
@@ -115,7 +115,9 @@ fn move_zone(
     for &i in zone {
         let r = turn * (x_start[i] - centre);
         x[i] = centre_end + r;
-        v[i] = v_centre + omega.cross(&r);
+        if let Some(v) = v.as_deref_mut() {
+            v[i] = v_centre + omega.cross(&r);
+        }
     }
 }
 
@@ -125,7 +127,7 @@ fn translate_with_pins(
     zone: &[usize],
     x_start: &[Vec3],
     x: &mut [Vec3],
-    v: &mut [Vec3],
+    mut v: Option<&mut [Vec3]>,
     inv_mass: &[Real],
     dt: Real,
 ) {
@@ -138,7 +140,9 @@ fn translate_with_pins(
     for &i in zone {
         if inv_mass[i] > 0.0 {
             x[i] = x_start[i] + shift;
-            v[i] = shift / dt;
+            if let Some(v) = v.as_deref_mut() {
+                v[i] = shift / dt;
+            }
         }
     }
 }
