@@ -160,6 +160,17 @@ pub fn coplanar_times(x0: [Vec3; 4], dx: [Vec3; 4]) -> ([Real; 3], usize) {
         a0.dot(&b1.cross(&c1)) + a1.dot(&b1.cross(&c0)) + a1.dot(&b0.cross(&c1)),
         a1.dot(&b1.cross(&c1)),
     ];
+    // The cubic lies in the convex hull of its Bernstein coefficients on [0, 1]: all of one
+    // strict sign, no root (most pairs).
+    let bernstein = [
+        coef[0],
+        coef[0] + coef[1] / 3.0,
+        coef[0] + (2.0 * coef[1] + coef[2]) / 3.0,
+        coef[0] + coef[1] + coef[2] + coef[3],
+    ];
+    if bernstein.iter().all(|&b| b > 0.0) || bernstein.iter().all(|&b| b < 0.0) {
+        return ([0.0; 3], 0);
+    }
     let f = |t: Real| ((coef[3] * t + coef[2]) * t + coef[1]) * t + coef[0];
     // Split [0, 1] at the turning points (roots of 3 c3 t^2 + 2 c2 t + c1) inside it.
     let mut cuts = [0.0, 1.0, 1.0, 1.0];

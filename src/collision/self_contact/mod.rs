@@ -32,7 +32,7 @@ use super::apply_friction;
 use super::shape::{to_glam, to_na};
 use crate::math::{Real, Vec3};
 use geometry::{closest_between_segments, closest_on_triangle, coplanar_times, Stencil};
-use tree::{bounds_of, overlap, FaceTree};
+use tree::{bounds_of, overlap, Bounds, FaceTree};
 use zones::Zones;
 
 /// Fraction of the missing distance `h - d` a too-close pair is pushed apart by in one step.
@@ -97,6 +97,11 @@ pub struct SelfContact {
     version: Option<u64>,
     tree: FaceTree,
     pairs: Vec<Pair>,
+    /// The end positions the proximity pairs were found with (m).
+    x_found: Vec<Vec3>,
+    /// Swept boxes of the vertices (by slot) and of the edges (by index in the tree's edges).
+    vertex_boxes: Vec<Bounds>,
+    edge_boxes: Vec<Bounds>,
     zones: Zones,
 }
 
@@ -108,6 +113,9 @@ impl SelfContact {
             version: None,
             tree: FaceTree::default(),
             pairs: Vec::new(),
+            x_found: Vec::new(),
+            vertex_boxes: Vec::new(),
+            edge_boxes: Vec::new(),
             zones: Zones::default(),
         }
     }
@@ -146,12 +154,19 @@ impl SelfContact {
         };
         // 1. Proximity at the step's start.
         self.find_pairs(motion.x_start, motion.x, h);
+        self.x_found.clear();
+        self.x_found.extend_from_slice(motion.x);
         for pair in &self.pairs {
             stats.proximities += usize::from(motion.repel(*pair, h, mu));
         }
-        // 2. The swept test, answered by impulses.
-        for _ in 0..CCD_ROUNDS {
-            self.find_pairs(motion.x_start, motion.x, CCD_TOLERANCE * h);
+        // 2. The swept test, answered by impulses. The first round reuses the pairs found with
+        // the pad h when no vertex moved by more than h - CCD_TOLERANCE h since (then every
+        // box grown by CCD_TOLERANCE h lies inside the box it was found with).
+        for round in 0..CCD_ROUNDS {
+            let reach = (1.0 - CCD_TOLERANCE) * h;
+            if round > 0 || !self.tree.moved_less(&self.x_found, motion.x, reach) {
+                self.find_pairs(motion.x_start, motion.x, CCD_TOLERANCE * h);
+            }
             let mut found = 0;
             for pair in &self.pairs {
                 if let Some(hit) = motion.first_crossing(*pair, CCD_TOLERANCE * h) {
@@ -213,27 +228,33 @@ impl SelfContact {
         tree.update(x_start, x, pad);
         tree.find_pairs();
         self.pairs.clear();
-        let swept = |points: &[usize]| {
-            let mut corners = [Vec3::zeros(); 4];
-            for (k, &i) in points.iter().enumerate() {
-                corners[2 * k] = x_start[i];
-                corners[2 * k + 1] = x[i];
-            }
-            bounds_of(&corners[..2 * points.len()], pad)
-        };
+        self.vertex_boxes.resize(x.len(), [Vec3::zeros(); 2]);
+        for &p in tree.vertices() {
+            self.vertex_boxes[p] = bounds_of(&[x_start[p], x[p]], pad);
+        }
+        self.edge_boxes.clear();
+        self.edge_boxes.extend(tree.edges().iter().map(|e| {
+            let (a, b) = (&self.vertex_boxes[e[0]], &self.vertex_boxes[e[1]]);
+            [a[0].inf(&b[0]), a[1].sup(&b[1])]
+        }));
+        let edges = tree.edges();
         for &(a, b) in &tree.pairs {
             for (f, g) in [(a, b), (b, a)] {
                 let face = tree.faces[g];
                 for &p in tree.vertices_of(f) {
-                    if !face.contains(&p) && overlap(&swept(&[p]), &tree.boxes[g]) {
+                    if !face.contains(&p) && overlap(&self.vertex_boxes[p], &tree.boxes[g]) {
                         self.pairs.push(Pair::VertexFace(p, face));
                     }
                 }
             }
-            for &e1 in tree.edges_of(a) {
-                let box1 = swept(&e1);
-                for &e2 in tree.edges_of(b) {
-                    if !e2.contains(&e1[0]) && !e2.contains(&e1[1]) && overlap(&box1, &swept(&e2)) {
+            for i in tree.edges_of(a) {
+                let e1 = edges[i];
+                for j in tree.edges_of(b) {
+                    let e2 = edges[j];
+                    if !e2.contains(&e1[0])
+                        && !e2.contains(&e1[1])
+                        && overlap(&self.edge_boxes[i], &self.edge_boxes[j])
+                    {
                         self.pairs.push(Pair::EdgeEdge(e1, e2));
                     }
                 }

@@ -91,14 +91,27 @@ impl FaceTree {
         &self.owned_vertices[self.vertex_start[f]..self.vertex_start[f + 1]]
     }
 
-    /// The edges face `f` owns (vertex slots, ascending).
-    pub fn edges_of(&self, f: usize) -> &[[usize; 2]] {
-        &self.owned_edges[self.edge_start[f]..self.edge_start[f + 1]]
+    /// The indices in [`FaceTree::edges`] of the edges face `f` owns.
+    pub fn edges_of(&self, f: usize) -> std::ops::Range<usize> {
+        self.edge_start[f]..self.edge_start[f + 1]
+    }
+
+    /// Every edge of the faces once (vertex slots, ascending), grouped by owner face.
+    pub fn edges(&self) -> &[[usize; 2]] {
+        &self.owned_edges
     }
 
     /// Every vertex of the faces, once.
     pub fn vertices(&self) -> &[usize] {
         &self.owned_vertices
+    }
+
+    /// Whether every vertex of the faces moved by less than `reach` (m) along each axis from
+    /// `before` to `after`.
+    pub fn moved_less(&self, before: &[Vec3], after: &[Vec3], reach: Real) -> bool {
+        self.owned_vertices
+            .iter()
+            .all(|&i| (after[i] - before[i]).amax() < reach)
     }
 
     /// Boxes each face over its motion `x_start -> x` (m) grown by `pad` (m), and builds the
