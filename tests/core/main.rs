@@ -14,5 +14,6 @@ mod resolution;
 mod run_outputs;
 mod runs;
 mod scene_fuzz;
+mod self_collision;
 mod study;
 mod transfer;

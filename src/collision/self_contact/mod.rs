@@ -341,7 +341,7 @@ impl Motion<'_> {
     }
 
     /// The first moment in the step at which the pair is coplanar with its closest points
-    /// within `tolerance` (m), if any.
+    /// within `tolerance` (m), or else its end if they end within it; none otherwise.
     fn first_crossing(&self, pair: Pair, tolerance: Real) -> Option<Crossing> {
         let v = match pair {
             Pair::VertexFace(p, f) => [p, f[0], f[1], f[2]],
@@ -350,7 +350,9 @@ impl Motion<'_> {
         let x0 = v.map(|i| self.x_start[i]);
         let dx = v.map(|i| self.x[i] - self.x_start[i]);
         let (times, count) = coplanar_times(x0, dx);
-        for &t in &times[..count] {
+        // The roots, then the end of the step: a pair ending within the tolerance touches
+        // (a root at the very end may be lost to rounding, the cubic's sign unchanged).
+        for t in times[..count].iter().copied().chain([1.0]) {
             let y = [0, 1, 2, 3].map(|k| x0[k] + dx[k] * t);
             let (stencil, plane) = match pair {
                 Pair::VertexFace(p, f) => {

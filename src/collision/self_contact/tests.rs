@@ -301,3 +301,46 @@ proptest! {
         prop_assert_eq!(self_intersections(&x_end, &faces, &edges_of(&faces)), 0, "{:?}", stats);
     }
 }
+
+#[test]
+fn a_point_ending_in_a_face_is_sent_back_to_its_side() {
+    // A triangle's corner falling onto a still face and ending exactly in its plane (as an
+    // obstacle's push to the margin can leave two layers): it ends back on its side,
+    // CCD_SEPARATION h off the face, however the plane's height rounds.
+    let h = 2e-3;
+    for k in 0..200 {
+        let z_face = 1e-3 + 0.00731 * k as Real;
+        let tilt = 1e-3 * (k % 7) as Real;
+        let x = vec![
+            Vec3::new(0.25 + 0.001 * (k % 13) as Real, 0.25, z_face + 2.1e-3),
+            Vec3::new(0.0, 0.0, z_face),
+            Vec3::new(1.0, 0.0, z_face + tilt),
+            Vec3::new(0.0, 1.0, z_face),
+            Vec3::new(0.6, 0.25, z_face + 0.05),
+            Vec3::new(0.6, 0.35, z_face + 0.05),
+        ];
+        // Everything slides by `shift`; the corner ends on the face's plane, up to rounding.
+        let shift = Vec3::new(1e-3 / 3.0, 1e-3 / 7.0, 0.0);
+        let mut x_end: Vec<Vec3> = x.iter().map(|p| p + shift).collect();
+        x_end[0].z = z_face + tilt * x_end[0].x;
+        let mut v = vec![Vec3::zeros(); 6];
+        let mut contact = SelfContact::new(h);
+        let faces = [[1, 2, 3], [0, 4, 5]];
+        let inv_mass = [1.0, 1.0, 1.0, 1.0, 0.0, 0.0];
+        let stats = contact.respond(
+            0,
+            faces.iter().copied(),
+            &x,
+            &mut x_end,
+            Some(&mut v),
+            &inv_mass,
+            0.0,
+            1e-3,
+        );
+        let gap = x_end[0].z - x_end[1].z;
+        assert!(
+            gap >= 0.99 * CCD_SEPARATION * h,
+            "{z_face}: gap {gap} {stats:?}"
+        );
+    }
+}
