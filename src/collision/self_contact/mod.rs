@@ -288,21 +288,40 @@ impl Motion<'_> {
 
     /// Changes the stencil's relative velocity by `du` (m/s) with an impulse spread by its
     /// weights and inverse masses (end positions and velocities both); false when every vertex
-    /// is pinned.
-    fn apply(&mut self, s: &Stencil, du: Vec3) -> bool {
+    /// Changes the stencil's relative motion over the step by `du` (m/s: end positions move by
+    /// `dt` times it) and its relative end velocity by `dv` (m/s), each by an impulse spread by
+    /// its weights and inverse masses; false when every vertex is pinned. The two differ when
+    /// the step's motion is not its velocity (an obstacle's push, a positions-only pass).
+    fn apply(&mut self, s: &Stencil, du: Vec3, dv: Vec3) -> bool {
         let denominator: Real = (0..4).map(|k| s.w[k].powi(2) * self.inv_mass[s.v[k]]).sum();
         if denominator <= 0.0 {
             return false;
         }
-        let impulse = du / denominator;
         for k in 0..4 {
-            let dv = s.w[k] * self.inv_mass[s.v[k]] * impulse;
-            self.x[s.v[k]] += dv * self.dt;
+            let share = s.w[k] * self.inv_mass[s.v[k]] / denominator;
+            self.x[s.v[k]] += share * du * self.dt;
             if let Some(v) = self.v.as_deref_mut() {
-                v[s.v[k]] += dv;
+                v[s.v[k]] += share * dv;
             }
         }
         true
+    }
+
+    /// The change of a stencil's relative end velocity (m/s) for a contact of normal `n`: an
+    /// approaching normal velocity is removed (inelastic), with friction `mu` on the tangential
+    /// one; zero without velocities or when not approaching. Repulsion beyond it moves positions
+    /// only, so a contact never adds kinetic energy.
+    fn velocity_change(&self, s: &Stencil, n: Vec3, mu: Real) -> Vec3 {
+        let Some(v) = self.v.as_deref() else {
+            return Vec3::zeros();
+        };
+        let u = s.combine(v);
+        let u_n = u.dot(&n);
+        if u_n >= 0.0 {
+            return Vec3::zeros();
+        }
+        let u_t = u - n * u_n;
+        n * -u_n + to_na(apply_friction(to_glam(u_t), mu, -u_n)) - u_t
     }
 
     /// The pair's stencil at the step's start positions: closest points.
@@ -337,7 +356,8 @@ impl Motion<'_> {
         }
         let u_t = u - n * u_n;
         let du_t = to_na(apply_friction(to_glam(u_t), mu, du_n)) - u_t;
-        self.apply(&s, n * du_n + du_t)
+        let dv = self.velocity_change(&s, n, mu);
+        self.apply(&s, n * du_n + du_t, dv)
     }
 
     /// The first moment in the step at which the pair is coplanar with its closest points
@@ -396,6 +416,7 @@ impl Motion<'_> {
         let side = hit.normal.dot(&s.combine(self.x_start));
         let u_n = self.relative_velocity(s).dot(&hit.normal);
         let du_n = (separation - side) / self.dt - u_n;
-        du_n > 0.0 && self.apply(s, hit.normal * du_n)
+        let dv = self.velocity_change(s, hit.normal, 0.0);
+        du_n > 0.0 && self.apply(s, hit.normal * du_n, dv)
     }
 }

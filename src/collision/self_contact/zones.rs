@@ -84,40 +84,77 @@ impl Zones {
 }
 
 /// The rigid motion of a free zone: translation of its centre of mass, rotation `exp(omega dt)`
-/// about it, with `omega = I^-1 L` (inertia tensor and angular momentum about the centre at the
-/// start positions; a zone with a singular inertia, such as collinear points, does not turn).
+/// about it, fitted to the step's motion `(x - x_start) / dt`; the end velocities (when given)
+/// become the rigid velocity fitted to them, so a zone keeps its linear momentum and adds no
+/// motion an obstacle's push put in the step.
 fn move_zone(
     zone: &[usize],
     x_start: &[Vec3],
     x: &mut [Vec3],
-    mut v: Option<&mut [Vec3]>,
+    v: Option<&mut [Vec3]>,
     inv_mass: &[Real],
     dt: Real,
 ) {
-    let mass = |i: usize| 1.0 / inv_mass[i];
-    let total: Real = zone.iter().map(|&i| mass(i)).sum();
-    let centre: Vec3 = zone.iter().map(|&i| mass(i) * x_start[i]).sum::<Vec3>() / total;
-    let velocity = |i: usize| (x[i] - x_start[i]) / dt;
-    let momentum: Vec3 = zone.iter().map(|&i| mass(i) * velocity(i)).sum();
-    let v_centre = momentum / total;
-    let mut angular = Vec3::zeros();
-    let mut inertia = Mat3::zeros();
-    for &i in zone {
-        let r = x_start[i] - centre;
-        angular += mass(i) * r.cross(&velocity(i));
-        inertia += mass(i) * (Mat3::identity() * r.norm_squared() - r * r.transpose());
-    }
-    let omega = inertia
-        .try_inverse()
-        .map_or(Vec3::zeros(), |inv| inv * angular);
+    let fit = RigidFit::new(zone, x_start, inv_mass);
+    let (v_centre, omega) = fit.velocity(|i| (x[i] - x_start[i]) / dt);
     let turn = Rotation3::new(omega * dt);
-    let centre_end = centre + v_centre * dt;
+    let centre_end = fit.centre + v_centre * dt;
+    let velocity = v.as_deref().map(|v| fit.velocity(|i| v[i]));
     for &i in zone {
-        let r = turn * (x_start[i] - centre);
-        x[i] = centre_end + r;
-        if let Some(v) = v.as_deref_mut() {
-            v[i] = v_centre + omega.cross(&r);
+        x[i] = centre_end + turn * (x_start[i] - fit.centre);
+    }
+    if let (Some(v), Some((v_centre, omega))) = (v, velocity) {
+        for &i in zone {
+            v[i] = v_centre + omega.cross(&(x[i] - centre_end));
         }
+    }
+}
+
+/// Masses, centre and inertia of a zone at the start positions, to fit a rigid velocity to a
+/// velocity field.
+struct RigidFit<'a> {
+    zone: &'a [usize],
+    x_start: &'a [Vec3],
+    inv_mass: &'a [Real],
+    total: Real,
+    centre: Vec3,
+    /// Inverse inertia tensor about the centre; none when singular (collinear points: the zone
+    /// does not turn).
+    inv_inertia: Option<Mat3>,
+}
+
+impl<'a> RigidFit<'a> {
+    fn new(zone: &'a [usize], x_start: &'a [Vec3], inv_mass: &'a [Real]) -> Self {
+        let mass = |i: usize| 1.0 / inv_mass[i];
+        let total: Real = zone.iter().map(|&i| mass(i)).sum();
+        let centre: Vec3 = zone.iter().map(|&i| mass(i) * x_start[i]).sum::<Vec3>() / total;
+        let mut inertia = Mat3::zeros();
+        for &i in zone {
+            let r = x_start[i] - centre;
+            inertia += mass(i) * (Mat3::identity() * r.norm_squared() - r * r.transpose());
+        }
+        RigidFit {
+            zone,
+            x_start,
+            inv_mass,
+            total,
+            centre,
+            inv_inertia: inertia.try_inverse(),
+        }
+    }
+
+    /// The centre's velocity (momentum over mass) and the angular velocity `I^-1 L` (m/s, 1/s)
+    /// of the velocity field `u`.
+    fn velocity(&self, u: impl Fn(usize) -> Vec3) -> (Vec3, Vec3) {
+        let mut momentum = Vec3::zeros();
+        let mut angular = Vec3::zeros();
+        for &i in self.zone {
+            let m = 1.0 / self.inv_mass[i];
+            momentum += m * u(i);
+            angular += m * (self.x_start[i] - self.centre).cross(&u(i));
+        }
+        let omega = self.inv_inertia.map_or(Vec3::zeros(), |inv| inv * angular);
+        (momentum / self.total, omega)
     }
 }
 
