@@ -132,7 +132,7 @@ pub fn settings(c: &Comparison) -> String {
          {} parallel job(s) on this machine (wall times include writing frames and metrics). \
          Reference: static {res}x{res}, {}, beta = {}{}, {} steps, {} s wall (cache key `{}`). \
          Errors are measured on {s}x{s} material points (MODEL.md §1). \
-         **Error floor** (static {f}x{f} against the reference): e_rms {} m, e_final {} m, tracked {} m, Hausdorff {} m.",
+         **Error floor** (static {f}x{f} against the reference): e_rms {} m, e_final {} m, tracked {} m, Hausdorff {} m.{}",
         m.scene,
         m.source,
         m.duration,
@@ -152,8 +152,43 @@ pub fn settings(c: &Comparison) -> String {
         fmt_e(r.floor.e_final),
         fmt_e(r.floor.tracked_err),
         fmt_e(r.floor.hausdorff),
+        match &m.collision {
+            Some(c) if c.self_collision => format!(
+                " **Self-collision on** (thickness {} m), in every run and in the reference.",
+                c.thickness
+            ),
+            Some(_) => " Self-collision off.".to_string(),
+            None => String::new(),
+        },
         res = r.resolution,
         s = r.samples,
         f = r.floor.resolution,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::report::reading::tests::comparison;
+    use crate::scene::CollisionSpec;
+
+    #[test]
+    fn the_settings_say_whether_the_cloth_collides_with_itself() {
+        let mut c = comparison(&[]);
+        assert!(
+            !settings(&c).contains("elf-collision"),
+            "unknown: said nothing"
+        );
+        c.manifest.collision = Some(CollisionSpec::default());
+        assert!(settings(&c).contains("Self-collision off."));
+        c.manifest.collision = Some(CollisionSpec {
+            self_collision: true,
+            ..CollisionSpec::default()
+        });
+        let text = settings(&c);
+        assert!(
+            text.contains("**Self-collision on** (thickness 0.002 m)"),
+            "{text}"
+        );
+    }
 }

@@ -92,6 +92,7 @@ pub fn compare(base: &LoadedScene, opts: &CompareOptions) -> Result<Comparison, 
         jobs,
         reference: reference_info(&reference),
         obstacles: base.scene.obstacles.clone(),
+        collision: Some(base.scene.collision.clone()),
     };
     Ok(Comparison { manifest, rows })
 }

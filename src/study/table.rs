@@ -5,7 +5,7 @@
 use super::shard::Shard;
 use super::StudyError;
 use crate::eval::reference::Floor;
-use crate::scene::ObstacleSpec;
+use crate::scene::{CollisionSpec, ObstacleSpec};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -281,6 +281,10 @@ pub struct Manifest {
     pub reference: ReferenceInfo,
     /// The scene's obstacles (for rendering).
     pub obstacles: Vec<ObstacleSpec>,
+    /// The scene's `[collision]` (its runs and reference share it); none in a comparison written
+    /// before it was kept.
+    #[serde(default)]
+    pub collision: Option<CollisionSpec>,
 }
 
 /// A comparison: its manifest and its rows (in configuration order).
@@ -361,6 +365,7 @@ pub(crate) mod tests {
             skipped: Vec::new(),
             shard: None,
             jobs: 1,
+            collision: None,
             reference: ReferenceInfo {
                 resolution: 65,
                 beta: 0.01,
