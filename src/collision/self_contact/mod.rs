@@ -41,6 +41,9 @@ const REPULSION: Real = 0.1;
 const CCD_TOLERANCE: Real = 1e-3;
 /// Distance, as a fraction of the thickness, a crossing pair is left apart at the step's end.
 const CCD_SEPARATION: Real = 0.1;
+/// Extra pad, as a fraction of the thickness, the pairs are listed with: the list serves the
+/// following steps while no vertex leaves the box it was listed with.
+const SKIN: Real = 1.0;
 /// Rounds of the swept test with impulses before impact zones take over.
 pub const CCD_ROUNDS: usize = 8;
 /// Rounds of impact zones before the whole cloth moves as one.
@@ -97,8 +100,12 @@ pub struct SelfContact {
     version: Option<u64>,
     tree: FaceTree,
     pairs: Vec<Pair>,
-    /// The end positions the proximity pairs were found with (m).
-    x_found: Vec<Vec3>,
+    /// Each pair's distance (m) at `x_listed`.
+    gaps: Vec<Real>,
+    /// The positions the pairs were listed at (m): the end of that step.
+    x_listed: Vec<Vec3>,
+    /// The mesh version the pairs were listed for.
+    listed: Option<u64>,
     /// Swept boxes of the vertices (by slot) and of the edges (by index in the tree's edges).
     vertex_boxes: Vec<Bounds>,
     edge_boxes: Vec<Bounds>,
@@ -113,7 +120,9 @@ impl SelfContact {
             version: None,
             tree: FaceTree::default(),
             pairs: Vec::new(),
-            x_found: Vec::new(),
+            gaps: Vec::new(),
+            x_listed: Vec::new(),
+            listed: None,
             vertex_boxes: Vec::new(),
             edge_boxes: Vec::new(),
             zones: Zones::default(),
@@ -153,23 +162,22 @@ impl SelfContact {
             dt,
         };
         // 1. Proximity at the step's start.
-        self.find_pairs(motion.x_start, motion.x, h);
-        self.x_found.clear();
-        self.x_found.extend_from_slice(motion.x);
-        for pair in &self.pairs {
-            stats.proximities += usize::from(motion.repel(*pair, h, mu));
-        }
-        // 2. The swept test, answered by impulses. The first round reuses the pairs found with
-        // the pad h when no vertex moved by more than h - CCD_TOLERANCE h since (then every
-        // box grown by CCD_TOLERANCE h lies inside the box it was found with).
-        for round in 0..CCD_ROUNDS {
-            let reach = (1.0 - CCD_TOLERANCE) * h;
-            if round > 0 || !self.tree.moved_less(&self.x_found, motion.x, reach) {
-                self.find_pairs(motion.x_start, motion.x, CCD_TOLERANCE * h);
+        let reach = self.list_pairs(motion.x_start, motion.x);
+        for (pair, &gap) in self.pairs.iter().zip(&self.gaps) {
+            if gap - 2.0 * reach < h {
+                stats.proximities += usize::from(motion.repel(*pair, h, mu));
             }
+        }
+        // 2. The swept test, answered by impulses.
+        let tolerance = CCD_TOLERANCE * h;
+        for _ in 0..CCD_ROUNDS {
+            let reach = self.list_pairs(motion.x_start, motion.x);
             let mut found = 0;
-            for pair in &self.pairs {
-                if let Some(hit) = motion.first_crossing(*pair, CCD_TOLERANCE * h) {
+            for (pair, &gap) in self.pairs.iter().zip(&self.gaps) {
+                if gap - 2.0 * reach >= tolerance {
+                    continue;
+                }
+                if let Some(hit) = motion.first_crossing(*pair, tolerance) {
                     found += usize::from(motion.separate(&hit, CCD_SEPARATION * h));
                 }
             }
@@ -181,10 +189,13 @@ impl SelfContact {
         // 3. Rigid impact zones until no crossing is left.
         self.zones.reset(motion.x.len());
         for _ in 0..ZONE_ROUNDS {
-            self.find_pairs(motion.x_start, motion.x, CCD_TOLERANCE * h);
+            let reach = self.list_pairs(motion.x_start, motion.x);
             let mut found = false;
-            for pair in &self.pairs {
-                if let Some(hit) = motion.first_crossing(*pair, CCD_TOLERANCE * h) {
+            for (pair, &gap) in self.pairs.iter().zip(&self.gaps) {
+                if gap - 2.0 * reach >= tolerance {
+                    continue;
+                }
+                if let Some(hit) = motion.first_crossing(*pair, tolerance) {
                     if !self.zones.same_zone(hit.stencil.v) {
                         found = true;
                         for k in 1..4 {
@@ -221,8 +232,43 @@ impl SelfContact {
         )
     }
 
+    /// Makes `self.pairs` hold every vertex-face and edge-edge pair sharing no vertex whose boxes
+    /// over the motion `x_start -> x`, grown by the thickness, meet, with `self.gaps` their
+    /// distances (m) where they were listed; returns `reach` (m), the farthest any vertex is now
+    /// (at the step's start or end) from there, so a pair is never closer than its gap minus
+    /// `2 reach` during the step. The list is kept while every vertex's box lies inside the one
+    /// it was listed with (found with the pad `h + SKIN h`); it is found again otherwise.
+    fn list_pairs(&mut self, x_start: &[Vec3], x: &[Vec3]) -> Real {
+        let h = self.thickness;
+        let inside =
+            |p: &Vec3, b: &Bounds| (0..3).all(|k| p[k] - h >= b[0][k] && p[k] + h <= b[1][k]);
+        let kept = self.listed == self.version
+            && self.tree.vertices().iter().all(|&i| {
+                inside(&x_start[i], &self.vertex_boxes[i]) && inside(&x[i], &self.vertex_boxes[i])
+            });
+        if !kept {
+            self.find_pairs(x_start, x, h + SKIN * h);
+            self.x_listed.clear();
+            self.x_listed.extend_from_slice(x);
+            let y = &self.x_listed;
+            self.gaps.clear();
+            self.gaps.extend(self.pairs.iter().map(|&pair| {
+                let s = stencil_at(pair, y);
+                s.combine(y).norm()
+            }));
+            self.listed = self.version;
+        }
+        let y = &self.x_listed;
+        self.tree
+            .vertices()
+            .iter()
+            .map(|&i| (x_start[i] - y[i]).norm().max((x[i] - y[i]).norm()))
+            .fold(0.0, Real::max)
+    }
+
     /// Lists in `self.pairs` the vertex-face and edge-edge pairs sharing no vertex whose boxes
-    /// over the motion `x_start -> x`, grown by `pad` (m), meet.
+    /// over the motion `x_start -> x`, grown by `pad` (m), meet; `self.vertex_boxes` keeps the
+    /// vertices' boxes.
     fn find_pairs(&mut self, x_start: &[Vec3], x: &[Vec3], pad: Real) {
         let tree = &mut self.tree;
         tree.update(x_start, x, pad);
@@ -259,6 +305,20 @@ impl SelfContact {
                     }
                 }
             }
+        }
+    }
+}
+
+/// The pair's stencil at positions `y` (m): its closest points there.
+fn stencil_at(pair: Pair, y: &[Vec3]) -> Stencil {
+    match pair {
+        Pair::VertexFace(p, f) => {
+            let b = closest_on_triangle(y[p], y[f[0]], y[f[1]], y[f[2]]);
+            Stencil::vertex_face(p, f, b)
+        }
+        Pair::EdgeEdge(e1, e2) => {
+            let (s, t) = closest_between_segments(y[e1[0]], y[e1[1]], y[e2[0]], y[e2[1]]);
+            Stencil::edge_edge(e1, e2, s, t)
         }
     }
 }
@@ -324,24 +384,10 @@ impl Motion<'_> {
         n * -u_n + to_na(apply_friction(to_glam(u_t), mu, -u_n)) - u_t
     }
 
-    /// The pair's stencil at the step's start positions: closest points.
-    fn stencil_at(&self, pair: Pair, y: &[Vec3]) -> Stencil {
-        match pair {
-            Pair::VertexFace(p, f) => {
-                let b = closest_on_triangle(y[p], y[f[0]], y[f[1]], y[f[2]]);
-                Stencil::vertex_face(p, f, b)
-            }
-            Pair::EdgeEdge(e1, e2) => {
-                let (s, t) = closest_between_segments(y[e1[0]], y[e1[1]], y[e2[0]], y[e2[1]]);
-                Stencil::edge_edge(e1, e2, s, t)
-            }
-        }
-    }
-
     /// Proximity response of one pair closer than `h` (m) at the step's start; true when it
     /// got an impulse.
     fn repel(&mut self, pair: Pair, h: Real, mu: Real) -> bool {
-        let s = self.stencil_at(pair, self.x_start);
+        let s = stencil_at(pair, self.x_start);
         let gap = s.combine(self.x_start);
         let d = gap.norm();
         if d >= h || d <= 0.0 {

@@ -106,14 +106,6 @@ impl FaceTree {
         &self.owned_vertices
     }
 
-    /// Whether every vertex of the faces moved by less than `reach` (m) along each axis from
-    /// `before` to `after`.
-    pub fn moved_less(&self, before: &[Vec3], after: &[Vec3], reach: Real) -> bool {
-        self.owned_vertices
-            .iter()
-            .all(|&i| (after[i] - before[i]).amax() < reach)
-    }
-
     /// Boxes each face over its motion `x_start -> x` (m) grown by `pad` (m), and builds the
     /// tree (after [`FaceTree::set_faces`]) or refits it.
     pub fn update(&mut self, x_start: &[Vec3], x: &[Vec3], pad: Real) {
