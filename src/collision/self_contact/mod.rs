@@ -104,6 +104,8 @@ pub struct SelfContact {
     gaps: Vec<Real>,
     /// The positions the pairs were listed at (m): the end of that step.
     x_listed: Vec<Vec3>,
+    /// Each vertex's farthest distance from `x_listed` in this step (m), by slot.
+    reach: Vec<Real>,
     /// The mesh version the pairs were listed for.
     listed: Option<u64>,
     /// Swept boxes of the vertices (by slot) and of the edges (by index in the tree's edges).
@@ -122,6 +124,7 @@ impl SelfContact {
             pairs: Vec::new(),
             gaps: Vec::new(),
             x_listed: Vec::new(),
+            reach: Vec::new(),
             listed: None,
             vertex_boxes: Vec::new(),
             edge_boxes: Vec::new(),
@@ -162,19 +165,19 @@ impl SelfContact {
             dt,
         };
         // 1. Proximity at the step's start.
-        let reach = self.list_pairs(motion.x_start, motion.x);
+        self.list_pairs(motion.x_start, motion.x);
         for (pair, &gap) in self.pairs.iter().zip(&self.gaps) {
-            if gap - 2.0 * reach < h {
+            if gap - self.reach_of(*pair) < h {
                 stats.proximities += usize::from(motion.repel(*pair, h, mu));
             }
         }
         // 2. The swept test, answered by impulses.
         let tolerance = CCD_TOLERANCE * h;
         for _ in 0..CCD_ROUNDS {
-            let reach = self.list_pairs(motion.x_start, motion.x);
+            self.list_pairs(motion.x_start, motion.x);
             let mut found = 0;
             for (pair, &gap) in self.pairs.iter().zip(&self.gaps) {
-                if gap - 2.0 * reach >= tolerance {
+                if gap - self.reach_of(*pair) >= tolerance {
                     continue;
                 }
                 if let Some(hit) = motion.first_crossing(*pair, tolerance) {
@@ -189,10 +192,10 @@ impl SelfContact {
         // 3. Rigid impact zones until no crossing is left.
         self.zones.reset(motion.x.len());
         for _ in 0..ZONE_ROUNDS {
-            let reach = self.list_pairs(motion.x_start, motion.x);
+            self.list_pairs(motion.x_start, motion.x);
             let mut found = false;
             for (pair, &gap) in self.pairs.iter().zip(&self.gaps) {
-                if gap - 2.0 * reach >= tolerance {
+                if gap - self.reach_of(*pair) >= tolerance {
                     continue;
                 }
                 if let Some(hit) = motion.first_crossing(*pair, tolerance) {
@@ -234,11 +237,11 @@ impl SelfContact {
 
     /// Makes `self.pairs` hold every vertex-face and edge-edge pair sharing no vertex whose boxes
     /// over the motion `x_start -> x`, grown by the thickness, meet, with `self.gaps` their
-    /// distances (m) where they were listed; returns `reach` (m), the farthest any vertex is now
-    /// (at the step's start or end) from there, so a pair is never closer than its gap minus
-    /// `2 reach` during the step. The list is kept while every vertex's box lies inside the one
-    /// it was listed with (found with the pad `h + SKIN h`); it is found again otherwise.
-    fn list_pairs(&mut self, x_start: &[Vec3], x: &[Vec3]) -> Real {
+    /// distances (m) where they were listed, and `self.reach` each vertex's farthest distance (m,
+    /// at the step's start or end) from where it was listed ([`SelfContact::reach_of`]). The list
+    /// is kept while every vertex's box lies inside the one it was listed with (found with the
+    /// pad `h + SKIN h`); it is found again otherwise.
+    fn list_pairs(&mut self, x_start: &[Vec3], x: &[Vec3]) {
         let h = self.thickness;
         let inside =
             |p: &Vec3, b: &Bounds| (0..3).all(|k| p[k] - h >= b[0][k] && p[k] + h <= b[1][k]);
@@ -259,11 +262,21 @@ impl SelfContact {
             self.listed = self.version;
         }
         let y = &self.x_listed;
-        self.tree
-            .vertices()
-            .iter()
-            .map(|&i| (x_start[i] - y[i]).norm().max((x[i] - y[i]).norm()))
-            .fold(0.0, Real::max)
+        self.reach.resize(x.len(), 0.0);
+        for &i in self.tree.vertices() {
+            self.reach[i] = (x_start[i] - y[i]).norm().max((x[i] - y[i]).norm());
+        }
+    }
+
+    /// How much closer than its listed gap a pair can be during the step (m): the largest reach
+    /// of the first element's vertices plus that of the second's (each element's points move no
+    /// farther than its farthest vertex).
+    fn reach_of(&self, pair: Pair) -> Real {
+        let r = |vs: &[usize]| vs.iter().map(|&i| self.reach[i]).fold(0.0, Real::max);
+        match pair {
+            Pair::VertexFace(p, f) => self.reach[p] + r(&f),
+            Pair::EdgeEdge(e1, e2) => r(&e1) + r(&e2),
+        }
     }
 
     /// Lists in `self.pairs` the vertex-face and edge-edge pairs sharing no vertex whose boxes
