@@ -60,7 +60,7 @@ fn self_contact(c: &mut Criterion) {
         let faces: Vec<[usize; 3]> = cloth.mesh.face_vertex_slots().collect();
         let (mu, thickness) = (sim.scene.material.mu, sim.scene.collision.thickness);
         let mut kept = SelfContact::new(thickness);
-        let mut pass = |contact: &mut SelfContact| {
+        let pass = |contact: &mut SelfContact| {
             let (mut x, mut v) = (x_free.clone(), sim.cloth.v.clone());
             let stats = contact.respond(
                 0,
