@@ -2,7 +2,7 @@
 //! the round table's rim and onto the bunny keeps every obstacle out of its surface at every
 //! metrics row (`max_surface_penetration <= margin`), where vertex contact alone lets the
 //! obstacle through a face.
-use crate::common::{run_into, scene, scene_text};
+use crate::common::{metrics_column, run_into, scene, scene_text};
 use adaptcloth::scene::LoadedScene;
 use adaptcloth::sim::RunStatus;
 use std::path::Path;
@@ -31,16 +31,7 @@ fn deepest_over_rows(loaded: &LoadedScene, out: &Path) -> f64 {
         "{}",
         summary.max_penetration
     );
-    let text = std::fs::read_to_string(out.join("metrics.csv")).unwrap();
-    let mut lines = text.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let column = header
-        .iter()
-        .position(|h| *h == "max_surface_penetration")
-        .expect("the column");
-    let rows: Vec<f64> = lines
-        .map(|l| l.split(',').nth(column).unwrap().parse().unwrap())
-        .collect();
+    let rows = metrics_column(out, "max_surface_penetration");
     assert!(rows.len() > 10);
     let deepest = rows.iter().copied().fold(0.0, f64::max);
     let summary_figure = summary.max_surface_penetration;
