@@ -3,21 +3,30 @@
 //!
 //! 1. **Proximity**: every vertex-face and edge-edge pair closer than the thickness `h` at the
 //!    step's start gets an impulse along the line between its closest points, so its relative
-//!    normal velocity is at least `REPULSION (h - d) / dt` (an approaching pair stops, a pair
-//!    too close is eased apart over a few steps), with Coulomb friction `mu` on the tangential
-//!    relative velocity.
+//!    normal motion over the step is at least `REPULSION (h - d) / dt` (an approaching pair
+//!    stops, a pair too close is eased apart over a few steps), with Coulomb friction `mu` on
+//!    the tangential relative motion.
 //! 2. **Swept test**: over the straight motion of the step, every pair that becomes coplanar
-//!    while its closest points meet (within `CCD_TOLERANCE h`) is a crossing; an impulse along
-//!    the normal at that moment makes the pair end at least `CCD_SEPARATION h` apart along it.
-//!    Repeated up to [`CCD_ROUNDS`] times while crossings are found.
+//!    while its closest points meet (within `CCD_TOLERANCE h`), or ends that close, is a
+//!    crossing; an impulse along the normal at that moment makes the pair end at least
+//!    `CCD_SEPARATION h` apart along it. Repeated up to [`CCD_ROUNDS`] times while crossings are
+//!    found.
 //! 3. **Impact zones**: crossings left after those rounds merge their vertices into zones that
 //!    move rigidly ([`zones`]); repeated until none is left, and after [`ZONE_ROUNDS`] rounds the
 //!    whole cloth is one zone (a step taken rigidly, counted as a fallback).
 //!
 //! Impulses are spread over a pair's four vertices with weights `w_i` and inverse masses, so the
-//! relative velocity changes by exactly the wanted amount and the linear momentum is kept. The
-//! start positions are assumed free of crossings (the cloth starts flat and every step keeps it
-//! so); a pair is tested only when its boxes over the step's motion meet ([`tree`]).
+//! relative motion changes by exactly the wanted amount and the linear momentum is kept. End
+//! positions take the whole correction; end velocities only the inelastic and friction change of
+//! their own relative velocity ([`Motion::velocity_change`]), so a contact adds no kinetic energy.
+//! The start positions are assumed free of crossings (the cloth starts flat and every step keeps
+//! it so).
+//!
+//! Pairs come from a list ([`SelfContact::list_pairs`]): those whose boxes over the step's
+//! motion, grown by the thickness and a skin, meet ([`tree`]), with their distances then; the
+//! list serves the following steps while no vertex leaves the box it was listed with, and a pair
+//! is tested only when its listed distance, less how far its vertices moved since, is within
+//! reach.
 //!
 //! Files: `geometry` (closest points, coplanarity times), `tree` (the bounding-volume hierarchy
 //! over faces), `zones` (rigid impact zones).
