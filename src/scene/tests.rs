@@ -111,6 +111,17 @@ fn out_of_range_values_are_rejected_with_key_line_and_expectation() {
             ":2",
         ),
         ("[cloth]\nresolution = 1\n", "cloth.resolution", ":2"),
+        // A thickness of a metre would test every pair of the cloth each step.
+        (
+            "[collision]\nthickness = 1.0\n",
+            "collision.thickness",
+            ":2",
+        ),
+        (
+            "[collision]\nthickness = 0.0\n",
+            "collision.thickness",
+            ":2",
+        ),
         (
             "[[obstacles]]\nkind = \"sphere\"\ncenter = [0,0,0]\nradius = -1\n",
             "obstacles.0.radius",

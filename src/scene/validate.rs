@@ -99,14 +99,15 @@ impl Checker<'_> {
     /// An obstacle's size (m): positive and at most `MAX_LENGTH`, as the cloth's sides (a box
     /// of half extent 1e308 passed `positive` and panicked in the contact query).
     fn length(&self, key: &str, v: Real) -> Result<(), SceneError> {
-        if v > 0.0 && v <= MAX_LENGTH {
+        self.length_up_to(key, v, MAX_LENGTH)
+    }
+
+    /// A length (m) in `(0, max]`.
+    fn length_up_to(&self, key: &str, v: Real, max: Real) -> Result<(), SceneError> {
+        if v > 0.0 && v <= max {
             Ok(())
         } else {
-            Err(self.fail(
-                key,
-                v,
-                &format!("expected a length in (0, {MAX_LENGTH:e}] m"),
-            ))
+            Err(self.fail(key, v, &format!("expected a length in (0, {max:e}] m")))
         }
     }
 
@@ -346,14 +347,11 @@ pub(super) fn validate(
     }
     c.non_negative("collision.margin", scene.collision.margin)?;
     c.open_unit("collision.restitution", scene.collision.restitution)?;
-    let thickness = scene.collision.thickness;
-    if !(thickness > 0.0 && thickness <= MAX_THICKNESS) {
-        return Err(c.fail(
-            "collision.thickness",
-            thickness,
-            &format!("expected a thickness in (0, {MAX_THICKNESS}] m (cloth is thin)"),
-        ));
-    }
+    c.length_up_to(
+        "collision.thickness",
+        scene.collision.thickness,
+        MAX_THICKNESS,
+    )?;
 
     for (i, o) in scene.obstacles.iter().enumerate() {
         let key = |k: &str| format!("obstacles.{i}.{k}");
