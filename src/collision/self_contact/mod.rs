@@ -59,7 +59,7 @@ pub const CCD_ROUNDS: usize = 8;
 pub const ZONE_ROUNDS: usize = 64;
 
 /// What one self-contact pass did.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SelfContactStats {
     /// Pairs closer than the thickness at the step's start that got a repulsion impulse.
     pub proximities: usize,
