@@ -5,7 +5,9 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    match cli::execute(Cli::parse().command) {
+    let cli = Cli::parse();
+    cli::configure_threads(cli.threads, cli.command.parallel_runs());
+    match cli::execute(cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             let message = e.to_string();

@@ -15,6 +15,23 @@ pub struct Cli {
     /// The command to run.
     #[command(subcommand)]
     pub command: Command,
+    /// Threads of each run's force sweeps (default: RAYON_NUM_THREADS if set, else the cores
+    /// shared among the command's parallel runs, cores / --jobs). The results do not depend on
+    /// it, only the wall times.
+    #[arg(long, global = true, value_parser = clap::value_parser!(u16).range(1..=1024))]
+    pub threads: Option<u16>,
+}
+
+impl Command {
+    /// How many runs the command makes at once (its `--jobs`; 1 for the others).
+    pub fn parallel_runs(&self) -> usize {
+        match self {
+            Command::Study(a) => a.execution.jobs.max(1),
+            Command::Compare(a) => a.execution.jobs.max(1),
+            Command::Reference(a) => a.jobs.max(1),
+            _ => 1,
+        }
+    }
 }
 
 /// One command of the binary.

@@ -96,6 +96,26 @@ pub fn execute(command: Command) -> Result<(), CliError> {
     }
 }
 
+/// Sizes the process's thread pool, which runs the force sweeps of large meshes: `threads` if
+/// given, else `RAYON_NUM_THREADS` if set, else the cores divided among `parallel_runs` runs (at
+/// least one thread). Call once, before any run.
+pub fn configure_threads(threads: Option<u16>, parallel_runs: usize) {
+    let count = match threads {
+        Some(n) => usize::from(n),
+        None if std::env::var_os("RAYON_NUM_THREADS").is_some() => return,
+        None => {
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            (cores / parallel_runs.max(1)).max(1)
+        }
+    };
+    if let Err(e) = rayon::ThreadPoolBuilder::new()
+        .num_threads(count)
+        .build_global()
+    {
+        eprintln!("warning: the thread pool was not resized to {count} threads: {e}");
+    }
+}
+
 /// The process's one interrupt flag, set by Ctrl-C (SIGINT), SIGTERM and SIGHUP alike (the
 /// `ctrlc` crate's `termination` feature): the first signal asks runs to stop cleanly (status
 /// `interrupted`, summary written, exit 130 whichever signal it was), a second ends the process at

@@ -6,15 +6,18 @@
 //! are resolved once per call into a monomorphised kernel, so a disabled force is never evaluated
 //! and the inner loops carry no per-element switch test. Evaluation allocates nothing.
 
+use super::chunks::{Chunk, Chunks};
 use super::elements::{Bends, Springs};
 use super::integrator::Dynamics;
+use super::kernels::{bend_forces, spring_forces, BendConstants, Window};
 use super::params::{Forces, Material, SpringMode};
 use crate::math::{Real, Vec3};
 use crate::mesh::{Mesh, VertexId};
+use std::ops::Range;
 
 /// A bending element is skipped (no force) when a triangle's doubled area `|N|` falls below this
 /// fraction of `|e|²`: the triangle is degenerate (a sliver or collapsed) and its normal undefined.
-const DEGENERATE_RATIO: Real = 1e-12;
+pub(super) const DEGENERATE_RATIO: Real = 1e-12;
 
 /// Below this ratio `min(|N1|, |N2|) / |e|²` (about a fifth of a right triangle's rest value,
 /// 0.5 or 1), a bending element's forces are scaled down by `(ratio / SLIVER_RATIO)³`: the modes
@@ -24,6 +27,11 @@ const DEGENERATE_RATIO: Real = 1e-12;
 /// still sum to zero with zero torque; the references never come near it (smallest ratio 0.37).
 /// See docs/model-notes.md, "Sliver bending".
 pub(crate) const SLIVER_RATIO: Real = 0.05;
+
+/// A spring sweep over a range of springs, for one combination of the force switches.
+type SpringKernel = fn(&Springs, Range<usize>, &[Vec3], &[Vec3], Window);
+/// A bending sweep over a range of elements, for one combination of the force switches.
+type BendKernel = fn(&Bends, Range<usize>, BendConstants, &[Vec3], &[Vec3], Window);
 
 /// Per-vertex parameters and flat element arrays, plus force evaluation.
 ///
@@ -40,6 +48,8 @@ pub struct ForceModel {
     drag: Vec<Real>,
     springs: Springs,
     bends: Bends,
+    /// The elements by vertex windows, for a sweep on several threads.
+    chunks: Chunks,
     total_mass: Real,
     min_mass: Real,
     max_stiffness: Real,
@@ -57,6 +67,7 @@ impl ForceModel {
             drag: Vec::new(),
             springs: Springs::default(),
             bends: Bends::default(),
+            chunks: Chunks::default(),
             total_mass: 0.0,
             min_mass: 0.0,
             max_stiffness: 0.0,
@@ -92,7 +103,7 @@ impl ForceModel {
         self.refresh_mass_stats();
         self.springs.rebuild(mesh, &self.material);
         self.bends.rebuild(mesh);
-        self.max_stiffness = self.springs.max_stiffness();
+        self.refresh_elements();
     }
 
     /// This model with only the springs and bending elements having a vertex among `slots`
@@ -104,7 +115,7 @@ impl ForceModel {
         let keep = |i: u32| slots.binary_search(&(i as usize)).is_ok();
         m.springs.retain_touching(keep);
         m.bends.retain_touching(keep);
-        m.max_stiffness = m.springs.max_stiffness();
+        m.refresh_elements();
         m
     }
 
@@ -151,7 +162,7 @@ impl ForceModel {
         model.drag = vec![0.0; mass.len()];
         model.mass = mass;
         model.springs = springs;
-        model.max_stiffness = model.springs.max_stiffness();
+        model.refresh_elements();
         model.refresh_mass_stats();
         model
     }
@@ -167,6 +178,12 @@ impl ForceModel {
             1.0 / m
         };
         self.drag[i] = area * self.material.kappa;
+    }
+
+    /// What follows from the element arrays: the stiffest spring and the chunks.
+    fn refresh_elements(&mut self) {
+        self.max_stiffness = self.springs.max_stiffness();
+        self.chunks = Chunks::build(&self.springs, &self.bends, self.mass.len());
     }
 
     fn refresh_mass_stats(&mut self) {
@@ -255,94 +272,42 @@ impl ForceModel {
         f.fill(Vec3::zeros());
         let s = &self.switches;
         let both = self.material.springs == SpringMode::Both;
-        match (s.springs, s.spring_damping, both) {
-            (true, true, false) => self.spring_forces::<true, true, false>(x, v, f),
-            (true, true, true) => self.spring_forces::<true, true, true>(x, v, f),
-            (true, false, false) => self.spring_forces::<true, false, false>(x, v, f),
-            (true, false, true) => self.spring_forces::<true, false, true>(x, v, f),
-            (false, true, _) => self.spring_forces::<false, true, false>(x, v, f),
-            (false, false, _) => {}
-        }
-        match (s.bending, s.bending_damping) {
-            (true, true) => self.bend_forces::<true, true>(x, v, f),
-            (true, false) => self.bend_forces::<true, false>(x, v, f),
-            (false, true) => self.bend_forces::<false, true>(x, v, f),
-            (false, false) => {}
-        }
-    }
-
-    /// Springs (4.8-4.9): `f_a = [k s / L + kd ((v_b - v_a) . d) / L²] d`, `d = x_b - x_a`,
-    /// `s = L - L_rest` (clamped at 0 unless `BOTH`); `f_b = -f_a`.
-    fn spring_forces<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
-        &self,
-        x: &[Vec3],
-        v: &[Vec3],
-        f: &mut [Vec3],
-    ) {
-        let sp = &self.springs;
-        let n = sp.len();
-        let (a, b, l0, k, kd) = (
-            &sp.a[..n],
-            &sp.b[..n],
-            &sp.rest_length[..n],
-            &sp.k[..n],
-            &sp.kd[..n],
-        );
-        for j in 0..n {
-            let (ia, ib) = (a[j] as usize, b[j] as usize);
-            let d = x[ib] - x[ia];
-            let len2 = d.norm_squared();
-            if len2 <= 0.0 {
-                continue; // coincident ends: no direction, no force
+        let springs: Option<SpringKernel> = match (s.springs, s.spring_damping, both) {
+            (true, true, false) => Some(spring_forces::<true, true, false>),
+            (true, true, true) => Some(spring_forces::<true, true, true>),
+            (true, false, false) => Some(spring_forces::<true, false, false>),
+            (true, false, true) => Some(spring_forces::<true, false, true>),
+            (false, true, _) => Some(spring_forces::<false, true, false>),
+            (false, false, _) => None,
+        };
+        let bends: Option<BendKernel> = match (s.bending, s.bending_damping) {
+            (true, true) => Some(bend_forces::<true, true>),
+            (true, false) => Some(bend_forces::<true, false>),
+            (false, true) => Some(bend_forces::<false, true>),
+            (false, false) => None,
+        };
+        let k = BendConstants {
+            elastic: self.material.k_b,
+            damping: self.material.k_bd,
+        };
+        let sweep = |spring_range, bend_range, mut window: Window| {
+            if let Some(kernel) = springs {
+                kernel(&self.springs, spring_range, x, v, window.reborrow());
             }
-            let mut c = 0.0;
-            if ELASTIC {
-                let len = len2.sqrt();
-                let stretch = if BOTH {
-                    len - l0[j]
-                } else {
-                    (len - l0[j]).max(0.0)
-                };
-                c += k[j] * stretch / len;
+            if let Some(kernel) = bends {
+                kernel(&self.bends, bend_range, k, x, v, window);
             }
-            if DAMP {
-                c += kd[j] * (v[ib] - v[ia]).dot(&d) / len2;
-            }
-            let fa = d * c;
-            f[ia] += fa;
-            f[ib] -= fa;
-        }
-    }
-
-    /// Bridson bending (4.10-4.13) on every interior edge, elastic and damping parts fused.
-    fn bend_forces<const ELASTIC: bool, const DAMP: bool>(
-        &self,
-        x: &[Vec3],
-        v: &[Vec3],
-        f: &mut [Vec3],
-    ) {
-        let kb = self.material.k_b;
-        let kbd = self.material.k_bd;
-        for &[i1, i2, i3, i4] in &self.bends.v {
-            let (i1, i2, i3, i4) = (i1 as usize, i2 as usize, i3 as usize, i4 as usize);
-            let Some(u) = bend_modes(x[i1], x[i2], x[i3], x[i4]) else {
-                continue;
+        };
+        if self.chunks.is_empty() {
+            let window = Window {
+                forces: f,
+                first: 0,
             };
-            let mut c = 0.0;
-            if ELASTIC {
-                c += kb * u.elastic_scale * u.sin_half;
-            }
-            if DAMP {
-                let uv = u.u[0].dot(&v[i1])
-                    + u.u[1].dot(&v[i2])
-                    + u.u[2].dot(&v[i3])
-                    + u.u[3].dot(&v[i4]);
-                c -= kbd * u.damping_scale * uv;
-            }
-            f[i1] += u.u[0] * c;
-            f[i2] += u.u[1] * c;
-            f[i3] += u.u[2] * c;
-            f[i4] += u.u[3] * c;
+            sweep(0..self.springs.len(), 0..self.bends.len(), window);
+        } else {
+            self.chunks.sweep(f, &|chunk: &Chunk, window| {
+                sweep(chunk.springs.clone(), chunk.bends.clone(), window)
+            });
         }
     }
 

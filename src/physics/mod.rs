@@ -7,13 +7,18 @@
 //!
 //! Files: `params` (the physics' own parameters: [`Material`], [`Forces`], [`IntegratorParams`]),
 //! `elements` (the flat [`Springs`] and [`Bends`] arrays), `forces` ([`ForceModel`]: vertex
-//! parameters and force kernels), `integrator` (the [`Dynamics`] and [`Integrator`] traits, the
+//! parameters and force evaluation), `kernels` (the spring and bending sweeps, four elements at a
+//! time on `lanes`), `chunks` (the elements split by vertex windows, so a sweep runs on every
+//! thread with the same result), `integrator` (the [`Dynamics`] and [`Integrator`] traits, the
 //! registry) with one file per integrator under `integrator/`. Seed 004's single-particle
 //! experiments that compare the integrators live in `crate::study::integrators`.
 
+mod chunks;
 mod elements;
 mod forces;
 mod integrator;
+mod kernels;
+mod lanes;
 mod limits;
 mod params;
 

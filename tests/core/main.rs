@@ -16,4 +16,5 @@ mod runs;
 mod scene_fuzz;
 mod self_collision;
 mod study;
+mod threads;
 mod transfer;
