@@ -7,7 +7,8 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     let cli = Cli::parse();
     cli::configure_threads(cli.threads, cli.command.parallel_runs());
-    match cli::execute(cli.command) {
+    // On a worker of the pool, so the force sweeps' parallel splits stay within the pool.
+    match rayon::scope(|_| cli::execute(cli.command)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             let message = e.to_string();

@@ -7,7 +7,7 @@
 //! twice the widest element's slot span, so the windows of chunks `t` and `t + 2` never meet: the
 //! even chunks run at once, each adding into its own window, then the odd ones. Every vertex thus
 //! receives its chunks' sums in one fixed order, and one thread makes the same sums one chunk
-//! after the other. A mesh of fewer than three chunks (or with unsorted elements) has no chunks
+//! after the other. A mesh of fewer than four chunks (or with unsorted elements) has no chunks
 //! and is swept in one piece.
 
 use super::elements::{Bends, Springs};
@@ -17,6 +17,10 @@ use std::ops::Range;
 
 /// Narrowest chunk (vertex slots): a chunk's work must outweigh handing it to another thread.
 const MIN_WIDTH: usize = 512;
+
+/// Fewest chunks worth a parallel sweep: on 3 chunks (33x33) two threads were measured 18 %
+/// slower than one at RK4's integrate stage, on 9 (65x65) 15 % faster (docs/performance.md).
+const MIN_CHUNKS: usize = 4;
 
 /// One chunk: its elements and the slots they touch.
 #[derive(Clone, Debug, PartialEq)]
@@ -50,7 +54,7 @@ impl Chunks {
         let span = spring_span.chain(bend_span).max().unwrap_or(0) as usize;
         let width = MIN_WIDTH.max(2 * span);
         let count = slots.div_ceil(width);
-        if !sorted || count < 3 {
+        if !sorted || count < MIN_CHUNKS {
             return Chunks::default();
         }
         let (mut next_spring, mut next_bend) = (0, 0);

@@ -224,12 +224,12 @@ fn chunked_sweeps_give_the_same_forces_on_any_number_of_threads() {
 
 #[test]
 fn chunks_cover_every_element_once_and_their_even_and_odd_windows_never_meet() {
-    for (nx, ny) in [(65, 65), (129, 9), (40, 200)] {
+    for (nx, ny) in [(65, 65), (129, 17), (40, 200)] {
         let mesh = union_jack(nx, ny, 1.0, 1.0);
         let model = built(&mesh, &Material::default(), &Forces::default());
         let chunks = Chunks::build(model.springs(), model.bends(), mesh.vertex_slots());
         let parts = chunks.parts();
-        assert!(parts.len() >= 3, "{nx}x{ny}: {} chunks", parts.len());
+        assert!(parts.len() >= 4, "{nx}x{ny}: {} chunks", parts.len());
         assert_eq!(parts[0].springs.start, 0);
         assert_eq!(parts[0].bends.start, 0);
         for pair in parts.windows(2) {
@@ -257,7 +257,7 @@ fn chunks_cover_every_element_once_and_their_even_and_odd_windows_never_meet() {
         }
     }
     // A small mesh is swept in one piece.
-    let mesh = union_jack(17, 17, 1.0, 1.0);
+    let mesh = union_jack(33, 33, 1.0, 1.0);
     let model = built(&mesh, &Material::default(), &Forces::default());
     assert!(Chunks::build(model.springs(), model.bends(), mesh.vertex_slots()).is_empty());
 }
