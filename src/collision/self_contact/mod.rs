@@ -115,6 +115,12 @@ pub struct SelfContact {
     x_listed: Vec<Vec3>,
     /// Each vertex's farthest distance from `x_listed` in this step (m), by slot.
     reach: Vec<Real>,
+    /// The largest of `reach` (m).
+    max_reach: Real,
+    /// The listed pairs' indices by increasing gap.
+    by_gap: Vec<u32>,
+    /// The indices of the pairs that can come near in this step, in list order (scratch).
+    near: Vec<u32>,
     /// The mesh version the pairs were listed for.
     listed: Option<u64>,
     /// Swept boxes of the vertices (by slot) and of the edges (by index in the tree's edges).
@@ -134,6 +140,9 @@ impl SelfContact {
             gaps: Vec::new(),
             x_listed: Vec::new(),
             reach: Vec::new(),
+            max_reach: 0.0,
+            by_gap: Vec::new(),
+            near: Vec::new(),
             listed: None,
             vertex_boxes: Vec::new(),
             edge_boxes: Vec::new(),
@@ -175,21 +184,25 @@ impl SelfContact {
         };
         // 1. Proximity at the step's start.
         self.list_pairs(motion.x_start, motion.x);
-        for (pair, &gap) in self.pairs.iter().zip(&self.gaps) {
-            if gap - self.reach_of(*pair) < h {
-                stats.proximities += usize::from(motion.repel(*pair, h, mu));
+        self.select_near(h);
+        for &j in &self.near {
+            let (pair, gap) = (self.pairs[j as usize], self.gaps[j as usize]);
+            if gap - self.reach_of(pair) < h {
+                stats.proximities += usize::from(motion.repel(pair, h, mu));
             }
         }
         // 2. The swept test, answered by impulses.
         let tolerance = CCD_TOLERANCE * h;
         for _ in 0..CCD_ROUNDS {
             self.list_pairs(motion.x_start, motion.x);
+            self.select_near(tolerance);
             let mut found = 0;
-            for (pair, &gap) in self.pairs.iter().zip(&self.gaps) {
-                if gap - self.reach_of(*pair) >= tolerance {
+            for &j in &self.near {
+                let (pair, gap) = (self.pairs[j as usize], self.gaps[j as usize]);
+                if gap - self.reach_of(pair) >= tolerance {
                     continue;
                 }
-                if let Some(hit) = motion.first_crossing(*pair, tolerance) {
+                if let Some(hit) = motion.first_crossing(pair, tolerance) {
                     found += usize::from(motion.separate(&hit, CCD_SEPARATION * h));
                 }
             }
@@ -202,12 +215,14 @@ impl SelfContact {
         self.zones.reset(motion.x.len());
         for _ in 0..ZONE_ROUNDS {
             self.list_pairs(motion.x_start, motion.x);
+            self.select_near(tolerance);
             let mut found = false;
-            for (pair, &gap) in self.pairs.iter().zip(&self.gaps) {
-                if gap - self.reach_of(*pair) >= tolerance {
+            for &j in &self.near {
+                let (pair, gap) = (self.pairs[j as usize], self.gaps[j as usize]);
+                if gap - self.reach_of(pair) >= tolerance {
                     continue;
                 }
-                if let Some(hit) = motion.first_crossing(*pair, tolerance) {
+                if let Some(hit) = motion.first_crossing(pair, tolerance) {
                     if !self.zones.same_zone(hit.stencil.v) {
                         found = true;
                         for k in 1..4 {
@@ -268,13 +283,33 @@ impl SelfContact {
                 let s = stencil_at(pair, y);
                 s.combine(y).norm()
             }));
+            let gaps = &self.gaps;
+            self.by_gap.clear();
+            self.by_gap.extend(0..self.pairs.len() as u32);
+            self.by_gap
+                .sort_unstable_by(|&a, &b| gaps[a as usize].total_cmp(&gaps[b as usize]));
             self.listed = self.version;
         }
         let y = &self.x_listed;
         self.reach.resize(x.len(), 0.0);
+        self.max_reach = 0.0;
         for &i in self.tree.vertices() {
             self.reach[i] = (x_start[i] - y[i]).norm().max((x[i] - y[i]).norm());
+            self.max_reach = self.max_reach.max(self.reach[i]);
         }
+    }
+
+    /// Puts in `self.near`, in list order, the listed pairs that can come closer than `limit`
+    /// (m) in this step: `gap - reach_of(pair) < limit` needs `gap < limit + 2 max_reach`, so
+    /// only a prefix of `by_gap` is read (a flat cloth's neighbours, listed but apart by about an
+    /// edge, are never visited while the list is kept).
+    fn select_near(&mut self, limit: Real) {
+        let cutoff = limit + 2.0 * self.max_reach;
+        let gaps = &self.gaps;
+        let count = self.by_gap.partition_point(|&j| gaps[j as usize] < cutoff);
+        self.near.clear();
+        self.near.extend_from_slice(&self.by_gap[..count]);
+        self.near.sort_unstable();
     }
 
     /// How much closer than its listed gap a pair can be during the step (m): the largest reach
