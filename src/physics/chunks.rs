@@ -7,8 +7,8 @@
 //! twice the widest element's slot span, so the windows of chunks `t` and `t + 2` never meet: the
 //! even chunks run at once, each adding into its own window, then the odd ones. Every vertex thus
 //! receives its chunks' sums in one fixed order, and one thread makes the same sums one chunk
-//! after the other. A mesh of fewer than four chunks (or with unsorted elements) has no chunks
-//! and is swept in one piece.
+//! after the other. With fewer than four chunks holding elements (or unsorted elements) there
+//! are no chunks: the mesh is swept in one piece.
 
 use super::elements::{Bends, Springs};
 use super::kernels::Window;
@@ -91,6 +91,13 @@ impl Chunks {
                 }
             })
             .collect::<Vec<_>>();
+        // A model over a few elements of a large mesh (`ForceModel::around`) is swept in one piece.
+        let busy = parts
+            .iter()
+            .filter(|c| !c.springs.is_empty() || !c.bends.is_empty());
+        if busy.count() < MIN_CHUNKS {
+            return Chunks::default();
+        }
         let apart = (2..parts.len()).all(|t| parts[t - 2].window.end <= parts[t].window.start);
         debug_assert!(apart, "chunk windows t and t + 2 overlap");
         if apart {

@@ -256,6 +256,13 @@ fn chunks_cover_every_element_once_and_their_even_and_odd_windows_never_meet() {
                 .all(|i| c.window.contains(&(i as usize))));
         }
     }
+    // A model over a few elements of a large mesh, as remesh's energy trial makes, is swept in
+    // one piece.
+    let mesh = union_jack(65, 65, 1.0, 1.0);
+    let model = built(&mesh, &Material::default(), &Forces::default());
+    let local = model.around(&[100, 101, 102]);
+    assert!(!local.springs().is_empty());
+    assert!(Chunks::build(local.springs(), local.bends(), mesh.vertex_slots()).is_empty());
     // A small mesh is swept in one piece.
     let mesh = union_jack(33, 33, 1.0, 1.0);
     let model = built(&mesh, &Material::default(), &Forces::default());
