@@ -4,6 +4,7 @@
 
 mod run;
 mod sample;
+mod self_pass;
 mod setup;
 
 pub use run::{
@@ -14,7 +15,7 @@ pub use setup::{build_cloth, SetupError};
 
 use crate::adapt::{AdaptContext, AdaptParams, AdaptReport, Adaptivity};
 use crate::cloth::Cloth;
-use crate::collision::{ContactStats, FaceScratch, Obstacles, SelfContact, SelfContactTotals};
+use crate::collision::{ContactStats, FaceScratch, Obstacles, SelfContactTotals};
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{Barycentric, RestLocator};
 use crate::physics::{
@@ -29,6 +30,7 @@ use std::sync::Arc;
 /// ([`Simulation::check_step_estimate`]).
 pub const FORCE_HINT: &str = "--force runs it anyway";
 use crate::strategies::make_strategy;
+use self_pass::SelfPass;
 use std::time::{Duration, Instant};
 
 /// Wall time spent in each stage of the step, summed over the run.
@@ -140,6 +142,8 @@ pub struct Simulation {
     x_start: Vec<Vec3>,
     /// The live faces as vertex slots and the mesh version they were listed at (face contact).
     faces: (u64, Vec<[usize; 3]>, FaceScratch),
+    /// The faces holding a vertex the self pass moved (scratch).
+    faces_moved: Vec<[usize; 3]>,
     /// The stability limit the dynamic step formula does not see (damping, bending) and the mesh
     /// version it was last updated on (dynamic steps of explicit integrators only).
     stability: (u64, StabilityLimit),
@@ -154,7 +158,7 @@ pub struct Simulation {
     /// Linear solves that ended above their tolerance so far.
     pub solves: SolveCounts,
     /// Self-collision (`collision.self = true`).
-    self_contact: Option<SelfContact>,
+    self_contact: Option<SelfPass>,
     /// What self-collision did so far.
     pub self_contact_totals: SelfContactTotals,
 }
@@ -203,6 +207,7 @@ impl Simulation {
             contact_seen: false,
             x_start: Vec::new(),
             faces: (u64::MAX, Vec::new(), FaceScratch::default()),
+            faces_moved: Vec::new(),
             stability: (u64::MAX, StabilityLimit::default()),
             last_adapt: None,
             drivers,
@@ -213,7 +218,7 @@ impl Simulation {
                 .scene
                 .collision
                 .self_collision
-                .then(|| SelfContact::new(loaded.scene.collision.thickness)),
+                .then(|| SelfPass::new(loaded.scene.collision.thickness)),
             self_contact_totals: SelfContactTotals::default(),
         })
     }
@@ -367,8 +372,10 @@ impl Simulation {
         self.stage_times.integrate_s += secs(clock.elapsed());
 
         let clock = Instant::now();
+        self.before_obstacles();
         // Moving obstacles go to where they are at the end of the step.
         self.obstacles.set_step(self.t, self.t + dt);
+        let cloth = &mut self.cloth;
         let contacts = if self.obstacles.is_empty() {
             ContactStats::default()
         } else {
@@ -446,6 +453,7 @@ impl Simulation {
             let clock = Instant::now();
             self.x_start.clear();
             self.x_start.extend_from_slice(&self.cloth.x);
+            self.before_obstacles();
             self.face_pass(false);
             self.self_collide(dt, false);
             self.stage_times.collide_s += secs(clock.elapsed());
@@ -487,24 +495,59 @@ impl Simulation {
             .contacts
     }
 
-    /// The self-collision pass when `collision.self = true` ([`SelfContact::respond`]) on the
+    /// Keeps the cloth's positions before the obstacles' response, for the self pass.
+    fn before_obstacles(&mut self) {
+        if let Some(pass) = &mut self.self_contact {
+            pass.before_obstacles(&self.cloth.x);
+        }
+    }
+
+    /// The self-collision pass when `collision.self = true` ([`SelfPass::respond`]) on the
     /// motion from `x_start` to the cloth's positions: a step of `dt` (s) after the obstacles'
     /// response, velocities included when `velocities`, else a correction of positions only.
     fn self_collide(&mut self, dt: Real, velocities: bool) {
-        let Some(contact) = &mut self.self_contact else {
+        let Some(pass) = &mut self.self_contact else {
             return;
         };
         let clock = Instant::now();
         let cloth = &mut self.cloth;
-        let stats = contact.respond(
+        let (obstacles, x_start, mu) = (&self.obstacles, &self.x_start, self.scene.material.mu);
+        let face_mode = self.scene.collision.mode == CollisionMode::Face;
+        let (_, faces, scratch) = &mut self.faces;
+        let (near, all_inv_mass) = (&mut self.faces_moved, cloth.model.inv_mass());
+        // The obstacles again over the vertices the self pass moved (positive `inv_mass`), and
+        // the faces holding one (`face_pass` listed this mesh version's faces before the first
+        // self pass when there are obstacles). A face's push goes to all its vertices: given to
+        // one vertex of small weight, it would be divided by that weight.
+        let again = |x: &mut [Vec3], v: &mut [Vec3], inv_mass: &[Real]| {
+            if obstacles.is_empty() {
+                return 0;
+            }
+            let mut moved = obstacles.respond(x_start, x, v, inv_mass, mu, dt).contacts;
+            if face_mode {
+                near.clear();
+                near.extend(
+                    faces
+                        .iter()
+                        .filter(|f| f.iter().any(|&i| inv_mass[i] > 0.0)),
+                );
+                let swept = Some(&x_start[..]);
+                moved += obstacles
+                    .respond_faces(near, swept, x, v, all_inv_mass, mu, scratch)
+                    .contacts;
+            }
+            moved
+        };
+        let stats = pass.respond(
             cloth.mesh.version(),
             cloth.mesh.face_vertex_slots(),
-            &self.x_start,
+            x_start,
             &mut cloth.x,
             velocities.then_some(&mut cloth.v[..]),
-            cloth.model.inv_mass(),
-            self.scene.material.mu,
+            all_inv_mass,
+            mu,
             dt,
+            again,
         );
         self.self_contact_totals.add(&stats);
         self.stage_times.self_collide_s += secs(clock.elapsed());

@@ -1,5 +1,6 @@
 //! Self-collision: the cloth's response to itself (Bridson, Fedkiw & Anderson 2002, MODEL.md
-//! §10.2), run after the obstacle response of each step on the step's motion `x_start -> x`.
+//! §10.2), run after the obstacle response of each step on the step's motion `x_start -> x`
+//! (the step loop's `sim::self_pass` gives it the masses and alternates it with the obstacles).
 //!
 //! 1. **Proximity**: every vertex-face and edge-edge pair closer than the thickness `h` at the
 //!    step's start gets an impulse along the line between its closest points, so its relative
@@ -69,6 +70,16 @@ pub struct SelfContactStats {
     pub zone_vertices: usize,
     /// Whether the whole cloth had to move rigidly (impact zones did not settle).
     pub fallback: bool,
+}
+
+impl SelfContactStats {
+    /// Adds another pass of the same step: counts summed, the fail-safe if either used it.
+    pub fn merge(&mut self, other: &SelfContactStats) {
+        self.proximities += other.proximities;
+        self.crossings += other.crossings;
+        self.zone_vertices += other.zone_vertices;
+        self.fallback |= other.fallback;
+    }
 }
 
 /// Self-contact over a run.
