@@ -10,6 +10,7 @@
 //! size), so a measure costs about linear time in the faces for a cloth of even elements.
 
 use crate::math::{Real, Vec3};
+use rayon::prelude::*;
 
 /// Six times the signed volume of the tetrahedron `(a, b, c, d)` (m³): positive when `d` is on the
 /// side of `(b - a) x (c - a)`.
@@ -44,6 +45,28 @@ pub fn self_intersections(x: &[Vec3], faces: &[[usize; 3]], edges: &[[usize; 2]]
         return 0;
     }
     let grid = FaceGrid::new(x, faces, &live);
+    // The edges in chunks, four per thread of the pool it runs in (at least MIN_EDGES_PER_TASK
+    // edges each); the count does not depend on the chunks.
+    let chunk = MIN_EDGES_PER_TASK.max(edges.len().div_ceil(4 * rayon::current_num_threads()));
+    edges
+        .par_chunks(chunk)
+        .map(|chunk| crossings_of(x, faces, &live, &grid, chunk))
+        .sum()
+}
+
+/// Fewest edges per parallel task of [`self_intersections`].
+const MIN_EDGES_PER_TASK: usize = 256;
+
+/// The crossings of the edges `edges` with the faces listed in `grid` (`live`: their indices in
+/// `faces`).
+fn crossings_of(
+    x: &[Vec3],
+    faces: &[[usize; 3]],
+    live: &[usize],
+    grid: &FaceGrid,
+    edges: &[[usize; 2]],
+) -> usize {
+    let finite = |i: usize| x[i].iter().all(|c| c.is_finite());
     let mut count = 0;
     for &[p, q] in edges {
         if !(finite(p) && finite(q)) {
