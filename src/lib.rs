@@ -14,6 +14,7 @@
 //! ```
 //!
 //! - [`math`]: scalar and vector aliases over nalgebra.
+//! - [`parallel`]: whether work may be split over the thread pool.
 //! - [`io`]: files: the one OBJ reader/writer, the metrics table, numeric CSV, atomic writes.
 //! - [`mesh`]: topology and rest (pattern) geometry, the one checked edit, the conformity checker,
 //!   generators, OBJ cloths, material-point location.
@@ -39,6 +40,7 @@ pub mod eval;
 pub mod io;
 pub mod math;
 pub mod mesh;
+pub mod parallel;
 pub mod physics;
 pub mod report;
 pub mod scene;

@@ -45,8 +45,11 @@ pub fn self_intersections(x: &[Vec3], faces: &[[usize; 3]], edges: &[[usize; 2]]
         return 0;
     }
     let grid = FaceGrid::new(x, faces, &live);
-    // The edges in chunks, four per thread of the pool it runs in (at least MIN_EDGES_PER_TASK
-    // edges each); the count does not depend on the chunks.
+    if !crate::parallel::pool_can_help() {
+        return crossings_of(x, faces, &live, &grid, edges);
+    }
+    // The edges in chunks, four per thread of the pool (at least MIN_EDGES_PER_TASK edges each);
+    // the count does not depend on the chunks.
     let chunk = MIN_EDGES_PER_TASK.max(edges.len().div_ceil(4 * rayon::current_num_threads()));
     edges
         .par_chunks(chunk)

@@ -121,7 +121,7 @@ impl Chunks {
     /// Runs `work` on every chunk with the forces of its window, the even chunks then the odd
     /// ones, on the threads of the current rayon pool; `forces` holds one entry per slot.
     pub fn sweep(&self, forces: &mut [Vec3], work: &(impl Fn(&Chunk, Window) + Sync)) {
-        let parallel = rayon::current_num_threads() > 1;
+        let parallel = crate::parallel::pool_can_help();
         for phase in 0..2 {
             let count = (self.parts.len() + 1 - phase) / 2;
             self.run(phase, 0..count, forces, 0, work, parallel);

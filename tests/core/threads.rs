@@ -63,3 +63,51 @@ fn zero_threads_is_refused_with_the_option_named() {
     assert_eq!(code, 2, "{stderr}");
     assert!(stderr.contains("--threads"), "{stderr}");
 }
+
+/// A study of two runs at a time on a pool of one thread (`--threads 1 --jobs 2`, as two cores
+/// give): the runs' own threads must not hand work to the pool, whose one thread waits for them
+/// (the self-intersection measure, split over 17x17's edges, hung here). Fails after two
+/// minutes instead of hanging.
+#[test]
+fn a_study_on_a_pool_of_one_thread_finishes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("study");
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .args([
+            "--threads",
+            "1",
+            "compare",
+            "sphere",
+            "--runs",
+            "static@17,remesh",
+        ])
+        .args(["--integrators", "implicit_euler", "--ref-resolution", "17"])
+        .args([
+            "--floor-resolution",
+            "9",
+            "--samples",
+            "8",
+            "--duration",
+            "0.1",
+        ])
+        .args(["--jobs", "2", "--quiet", "--out"])
+        .arg(&out)
+        .arg("--cache")
+        .arg(dir.path().join("cache"))
+        .stderr(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .expect("binary runs");
+    let started = std::time::Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if started.elapsed().as_secs() > 120 {
+            child.kill().unwrap();
+            panic!("the study did not finish in two minutes");
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    };
+    assert!(status.success(), "{status}");
+}
