@@ -19,8 +19,15 @@ fn orient(a: Vec3, b: Vec3, c: Vec3, d: Vec3) -> Real {
 }
 
 /// Whether the segment `p -> q` passes through the interior of the triangle `tri` (strict
-/// inequalities: touching, grazing or coplanar is no crossing).
+/// inequalities: touching, grazing or coplanar is no crossing). A segment whose box misses the
+/// triangle's is apart from it: for a segment nearly parallel to the triangle's plane the signed
+/// volumes below are decided by rounding, and without that test they could call a segment 6 cm
+/// away crossing (found in an adaptation's crossing check).
 pub fn segment_crosses_triangle(p: Vec3, q: Vec3, [a, b, c]: [Vec3; 3]) -> bool {
+    let (lo, hi) = (a.inf(&b).inf(&c), a.sup(&b).sup(&c));
+    if (0..3).any(|k| p[k].max(q[k]) < lo[k] || p[k].min(q[k]) > hi[k]) {
+        return false;
+    }
     let (sp, sq) = (orient(a, b, c, p), orient(a, b, c, q));
     if !(sp > 0.0 && sq < 0.0 || sp < 0.0 && sq > 0.0) {
         return false;
@@ -77,16 +84,15 @@ fn crossings_of(
         }
         let (lo, hi) = bounds(&[x[p], x[q]]);
         let (lo_cell, hi_cell) = grid.cells(lo, hi);
-        grid.visit(lo_cell, hi_cell, |k, cell| {
-            let (face_lo, face_hi) = grid.boxes[k];
-            // A pair is tested in the first cell both boxes share, so once; then the boxes must
-            // overlap and the two share no vertex.
-            if grid.low_cells[k].sup(&lo_cell) != cell
-                || (0..3).any(|a| face_lo[a] > hi[a] || face_hi[a] < lo[a])
+        grid.visit(lo_cell, hi_cell, |entry, cell| {
+            // The boxes must overlap, and a pair is tested in the first cell both boxes share,
+            // so once; then the two must share no vertex.
+            if (0..3).any(|a| entry.lo[a] > hi[a] || entry.hi[a] < lo[a])
+                || (0..3).any(|a| entry.low_cell[a].max(lo_cell[a] as u32) != cell[a] as u32)
             {
                 return;
             }
-            let face = faces[live[k]];
+            let face = faces[live[entry.face as usize]];
             if !face.contains(&p)
                 && !face.contains(&q)
                 && segment_crosses_triangle(x[p], x[q], face.map(|i| x[i]))
@@ -99,16 +105,24 @@ fn crossings_of(
 }
 
 /// A uniform grid of cubic cells over the faces' bounding box, each cell listing the faces whose
-/// bounding boxes overlap it (compressed rows, faces in ascending order within a cell).
+/// bounding boxes overlap it (compressed rows, faces in ascending order within a cell), each
+/// entry with what the broad phase reads, so a cell's candidates lie side by side in memory.
 struct FaceGrid {
     origin: Vec3,
     inv_cell: Real,
     dims: [usize; 3],
     start: Vec<usize>,
-    items: Vec<usize>,
-    /// Per listed face: its bounding box (m) and its lowest cell.
-    boxes: Vec<(Vec3, Vec3)>,
-    low_cells: Vec<Cell>,
+    items: Vec<Entry>,
+}
+
+/// A listed face in a cell: its bounding box (m), its lowest cell and its index in the listed
+/// faces.
+#[derive(Clone, Copy)]
+struct Entry {
+    lo: [Real; 3],
+    hi: [Real; 3],
+    low_cell: [u32; 3],
+    face: u32,
 }
 
 type Cell = nalgebra::Vector3<usize>;
@@ -145,8 +159,6 @@ impl FaceGrid {
             dims: [d.x, d.y, d.z],
             start: vec![0; d.x * d.y * d.z + 1],
             items: Vec::new(),
-            boxes: Vec::new(),
-            low_cells: Vec::new(),
         };
         let face_cells: Vec<(Cell, Cell)> = boxes.iter().map(|&(a, b)| grid.cells(a, b)).collect();
         for &(a, b) in &face_cells {
@@ -157,16 +169,27 @@ impl FaceGrid {
             grid.start[c + 1] += grid.start[c];
         }
         let mut fill = grid.start.clone();
-        grid.items = vec![0; grid.start[grid.start.len() - 1]];
-        for (k, &(a, b)) in face_cells.iter().enumerate() {
+        let empty = Entry {
+            lo: [0.0; 3],
+            hi: [0.0; 3],
+            low_cell: [0; 3],
+            face: 0,
+        };
+        grid.items = vec![empty; grid.start[grid.start.len() - 1]];
+        for (k, (&(a, b), &(face_lo, face_hi))) in face_cells.iter().zip(&boxes).enumerate() {
+            let entry = Entry {
+                lo: face_lo.into(),
+                hi: face_hi.into(),
+                // Cells are at most 1e6 + 1 per axis.
+                low_cell: a.map(|c| c as u32).into(),
+                face: k as u32,
+            };
             let (dims, items) = (grid.dims, &mut grid.items);
             for_each_cell(dims, a, b, |c, _| {
-                items[fill[c]] = k;
+                items[fill[c]] = entry;
                 fill[c] += 1;
             });
         }
-        grid.low_cells = face_cells.iter().map(|&(a, _)| a).collect();
-        grid.boxes = boxes;
         grid
     }
 
@@ -181,13 +204,12 @@ impl FaceGrid {
         (at(lo), at(hi))
     }
 
-    /// Calls `f(k, cell)` for every face listed in every cell from `lo` to `hi` (`k` its index in
-    /// the listed faces), with the cell's coordinates (a face in several cells comes once per
-    /// cell).
-    fn visit(&self, lo: Cell, hi: Cell, mut f: impl FnMut(usize, Cell)) {
+    /// Calls `f(entry, cell)` for every face listed in every cell from `lo` to `hi`, with the
+    /// cell's coordinates (a face in several cells comes once per cell).
+    fn visit(&self, lo: Cell, hi: Cell, mut f: impl FnMut(&Entry, Cell)) {
         for_each_cell(self.dims, lo, hi, |c, cell| {
-            for &face in &self.items[self.start[c]..self.start[c + 1]] {
-                f(face, cell);
+            for entry in &self.items[self.start[c]..self.start[c + 1]] {
+                f(entry, cell);
             }
         });
     }
@@ -219,6 +241,40 @@ fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
 mod tests {
     use super::*;
     use proptest::prelude::*;
+
+    /// A segment nearly parallel to a triangle's plane, 6 cm from it (its box misses the
+    /// triangle's): rounding made the signed volumes call it crossing.
+    #[test]
+    fn a_nearly_parallel_segment_far_from_the_triangle_does_not_cross() {
+        let p = Vec3::new(
+            -0.1250025850866014,
+            0.12500257026227746,
+            0.24652801364514076,
+        );
+        let q = Vec3::new(
+            -2.4830271963963958e-8,
+            0.12493920697402597,
+            0.24658411321933899,
+        );
+        let tri = [
+            Vec3::new(
+                -6.385113797538168e-8,
+                5.514986992696908e-8,
+                0.25225991868543374,
+            ),
+            Vec3::new(
+                -4.434070496967282e-8,
+                0.062469631061947944,
+                0.24942201595238636,
+            ),
+            Vec3::new(
+                -0.06250132446886969,
+                0.06250131270607369,
+                0.24939396616528725,
+            ),
+        ];
+        assert!(!segment_crosses_triangle(p, q, tri));
+    }
 
     /// Two squares of two triangles each: the unit square in the plane z = 0, and a vertical one
     /// (y in [0.25, 0.75], z in [-0.5, 0.5]) through it along x = 0.5 when `cut`, or beside it
