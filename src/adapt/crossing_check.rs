@@ -17,17 +17,7 @@ type Key = usize;
 /// against the new faces. Faces that stay are tested only when their box meets the new faces'
 /// box, so the check costs one pass over the faces' boxes plus the few pairs near the edit.
 pub fn edit_crosses(cloth: &Cloth, edit: &Edit, new_positions: &[Vec3]) -> bool {
-    let key = |r: VertexRef| match r {
-        VertexRef::Old(v) => v.0 as usize,
-        VertexRef::New(k) => usize::MAX - k,
-    };
-    let at = |k: Key| {
-        if k > usize::MAX / 2 {
-            new_positions[usize::MAX - k]
-        } else {
-            cloth.x[k]
-        }
-    };
+    let at = |k: Key| position(cloth, new_positions, k);
     let new_faces: Vec<[Key; 3]> = edit.add.iter().map(|f| f.map(key)).collect();
     if new_faces.is_empty() {
         return false;
@@ -105,6 +95,24 @@ fn overlap(a: &Bounds, b: &Bounds) -> bool {
     (0..3).all(|k| a.0[k] <= b.1[k] && b.0[k] <= a.1[k])
 }
 
+/// The key of a vertex of the edited mesh.
+fn key(r: VertexRef) -> Key {
+    match r {
+        VertexRef::Old(v) => v.0 as usize,
+        VertexRef::New(k) => usize::MAX - k,
+    }
+}
+
+/// The world position (m) of the vertex `k` of the edited mesh, new vertex `j` being at
+/// `new_positions[j]`.
+fn position(cloth: &Cloth, new_positions: &[Vec3], k: Key) -> Vec3 {
+    if k > usize::MAX / 2 {
+        new_positions[usize::MAX - k]
+    } else {
+        cloth.x[k]
+    }
+}
+
 fn sorted(a: Key, b: Key) -> [Key; 2] {
     [a.min(b), a.max(b)]
 }
@@ -119,17 +127,7 @@ mod tests {
     /// [`edit_crosses`] without any box: every new edge against every new face and every face
     /// that stays, every edge of a face that stays against every new face.
     fn crosses_by_every_pair(cloth: &Cloth, edit: &Edit, new_positions: &[Vec3]) -> bool {
-        let key = |r: VertexRef| match r {
-            VertexRef::Old(v) => v.0 as usize,
-            VertexRef::New(k) => usize::MAX - k,
-        };
-        let at = |k: Key| {
-            if k > usize::MAX / 2 {
-                new_positions[usize::MAX - k]
-            } else {
-                cloth.x[k]
-            }
-        };
+        let at = |k: Key| position(cloth, new_positions, k);
         let new_faces: Vec<[Key; 3]> = edit.add.iter().map(|f| f.map(key)).collect();
         let edges_of = |f: [Key; 3]| (0..3).map(move |i| sorted(f[i], f[(i + 1) % 3]));
         let new_edges: Vec<[Key; 2]> = new_faces.iter().flat_map(|&f| edges_of(f)).collect();
@@ -151,6 +149,21 @@ mod tests {
                 .any(|&f| edges_of(f).any(|e| new_faces.iter().any(|&g| crosses(e, g))))
     }
 
+    /// Face `f` of `cloth` replaced by three faces around one new vertex (its position is the
+    /// check's argument; the edit's new vertex list is not read by the check).
+    fn split_at_new_vertex(cloth: &Cloth, f: FaceId) -> Edit {
+        let [a, b, c] = cloth.mesh.face(f).map(VertexRef::Old);
+        Edit {
+            remove: vec![f],
+            new_vertices: Vec::new(),
+            add: vec![
+                [a, b, VertexRef::New(0)],
+                [b, c, VertexRef::New(0)],
+                [c, a, VertexRef::New(0)],
+            ],
+        }
+    }
+
     proptest! {
         /// A face of the folded cloth split at a new vertex placed anywhere around the fold: the
         /// boxes only skip pairs that cannot cross.
@@ -162,16 +175,7 @@ mod tests {
             let cloth = folded_cloth(5);
             let faces: Vec<FaceId> = cloth.mesh.faces().collect();
             let f = faces[face % faces.len()];
-            let [a, b, c] = cloth.mesh.face(f).map(VertexRef::Old);
-            let edit = Edit {
-                remove: vec![f],
-                new_vertices: Vec::new(),
-                add: vec![
-                    [a, b, VertexRef::New(0)],
-                    [b, c, VertexRef::New(0)],
-                    [c, a, VertexRef::New(0)],
-                ],
-            };
+            let edit = split_at_new_vertex(&cloth, f);
             let at = [Vec3::new(p.0, p.1, p.2)];
             prop_assert_eq!(edit_crosses(&cloth, &edit, &at), crosses_by_every_pair(&cloth, &edit, &at));
         }
@@ -191,7 +195,6 @@ mod tests {
                 xs.iter().all(|p| p.z == 0.0) && xs.iter().filter(|p| p.x == 0.5).count() == 1
             })
             .unwrap();
-        let [a, b, c] = cloth.mesh.face(f).map(VertexRef::Old);
         let centre = cloth
             .mesh
             .face(f)
@@ -199,15 +202,7 @@ mod tests {
             .iter()
             .sum::<Vec3>()
             / 3.0;
-        let edit = Edit {
-            remove: vec![f],
-            new_vertices: Vec::new(),
-            add: vec![
-                [a, b, VertexRef::New(0)],
-                [b, c, VertexRef::New(0)],
-                [c, a, VertexRef::New(0)],
-            ],
-        };
+        let edit = split_at_new_vertex(&cloth, f);
         assert!(!edit_crosses(&cloth, &edit, &[centre]));
         let through = Vec3::new(0.8, centre.y, 0.05);
         assert!(edit_crosses(&cloth, &edit, &[through]));

@@ -143,26 +143,31 @@ impl SelfPass {
 mod tests {
     use super::*;
 
-    /// A small triangle falling through a large one the obstacles' response moved (held) in
-    /// this step: the momentum the correction keeps is the one of the held masses, so the large
-    /// triangle moves a thousand times less than when free.
-    #[test]
-    fn a_held_layer_gives_way_a_thousand_times_less() {
-        let faces = [[0usize, 1, 2], [3, 4, 5]];
-        let falling = |z: Real| {
+    /// A small triangle (slots 0-2) falling from height `from` to `to` (m) over a large one
+    /// (slots 3-5) at height `below`: the faces, start and end positions.
+    fn falling_over(from: Real, to: Real, below: Real) -> ([[usize; 3]; 2], Vec<Vec3>, Vec<Vec3>) {
+        let small = |z: Real| {
             [
                 Vec3::new(0.2, 0.2, z),
                 Vec3::new(0.25, 0.2, z),
                 Vec3::new(0.2, 0.25, z),
             ]
         };
-        let below = [
-            Vec3::new(-1.0, -1.0, 0.0),
-            Vec3::new(2.0, -1.0, 0.0),
-            Vec3::new(-1.0, 2.0, 0.0),
+        let large = [
+            Vec3::new(-1.0, -1.0, below),
+            Vec3::new(2.0, -1.0, below),
+            Vec3::new(-1.0, 2.0, below),
         ];
-        let x_start: Vec<Vec3> = falling(0.01).into_iter().chain(below).collect();
-        let x_end: Vec<Vec3> = falling(-0.01).into_iter().chain(below).collect();
+        let at = |z: Real| small(z).into_iter().chain(large).collect();
+        ([[0, 1, 2], [3, 4, 5]], at(from), at(to))
+    }
+
+    /// A small triangle falling through a large one the obstacles' response moved (held) in
+    /// this step: the momentum the correction keeps is the one of the held masses, so the large
+    /// triangle moves a thousand times less than when free.
+    #[test]
+    fn a_held_layer_gives_way_a_thousand_times_less() {
+        let (faces, x_start, x_end) = falling_over(0.01, -0.01, 0.0);
         let inv_mass = [1.0; 6];
         // The vertical shifts of the falling triangle and of the one below, summed.
         let run = |held: bool| {
@@ -216,21 +221,7 @@ mod tests {
     #[test]
     fn obstacles_and_self_passes_alternate() {
         const MARGIN: Real = 0.001;
-        let faces = [[0usize, 1, 2], [3, 4, 5]];
-        let falling = |z: Real| {
-            [
-                Vec3::new(0.2, 0.2, z),
-                Vec3::new(0.25, 0.2, z),
-                Vec3::new(0.2, 0.25, z),
-            ]
-        };
-        let below = [
-            Vec3::new(-1.0, -1.0, 0.0013),
-            Vec3::new(2.0, -1.0, 0.0013),
-            Vec3::new(-1.0, 2.0, 0.0013),
-        ];
-        let x_start: Vec<Vec3> = falling(0.0065).into_iter().chain(below).collect();
-        let mut x: Vec<Vec3> = falling(0.00105).into_iter().chain(below).collect();
+        let (faces, x_start, mut x) = falling_over(0.0065, 0.00105, 0.0013);
         let mut v = vec![Vec3::zeros(); 6];
         for u in &mut v[..3] {
             u.z = -0.545;
