@@ -58,12 +58,13 @@ pub fn edit_crosses(cloth: &Cloth, edit: &Edit, new_positions: &[Vec3]) -> bool 
     let mut removed = edit.remove.clone();
     removed.sort_unstable();
     let mesh = &cloth.mesh;
+    // The box first: most faces are far from the edit.
     mesh.faces()
-        .filter(|f| removed.binary_search(f).is_err())
-        .map(|f| mesh.face(f).map(|v| v.0 as usize))
-        .filter_map(|f| {
+        .filter_map(|id| {
+            let f = mesh.face(id).map(|v| v.0 as usize);
             let face_box = bounds(f.map(|k| cloth.x[k]));
-            overlap(&face_box, &(lo, hi)).then_some((f, face_box))
+            (overlap(&face_box, &(lo, hi)) && removed.binary_search(&id).is_err())
+                .then_some((f, face_box))
         })
         .any(|(f, face_box)| {
             new_edges_cross(f, &face_box)
