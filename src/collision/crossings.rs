@@ -84,15 +84,16 @@ fn crossings_of(
         }
         let (lo, hi) = bounds(&[x[p], x[q]]);
         let (lo_cell, hi_cell) = grid.cells(lo, hi);
-        grid.visit(lo_cell, hi_cell, |entry, cell| {
-            // The boxes must overlap, and a pair is tested in the first cell both boxes share,
-            // so once; then the two must share no vertex.
-            if (0..3).any(|a| entry.lo[a] > hi[a] || entry.hi[a] < lo[a])
-                || (0..3).any(|a| entry.low_cell[a].max(lo_cell[a] as u32) != cell[a] as u32)
+        grid.visit(lo_cell, hi_cell, |k, cell| {
+            let (face_lo, face_hi) = grid.boxes[k];
+            // A pair is tested in the first cell both boxes share, so once; then the boxes must
+            // overlap and the two share no vertex.
+            if grid.low_cells[k].sup(&lo_cell) != cell
+                || (0..3).any(|a| face_lo[a] > hi[a] || face_hi[a] < lo[a])
             {
                 return;
             }
-            let face = faces[live[entry.face as usize]];
+            let face = faces[live[k]];
             if !face.contains(&p)
                 && !face.contains(&q)
                 && segment_crosses_triangle(x[p], x[q], face.map(|i| x[i]))
@@ -105,24 +106,16 @@ fn crossings_of(
 }
 
 /// A uniform grid of cubic cells over the faces' bounding box, each cell listing the faces whose
-/// bounding boxes overlap it (compressed rows, faces in ascending order within a cell), each
-/// entry with what the broad phase reads, so a cell's candidates lie side by side in memory.
+/// bounding boxes overlap it (compressed rows, faces in ascending order within a cell).
 struct FaceGrid {
     origin: Vec3,
     inv_cell: Real,
     dims: [usize; 3],
     start: Vec<usize>,
-    items: Vec<Entry>,
-}
-
-/// A listed face in a cell: its bounding box (m), its lowest cell and its index in the listed
-/// faces.
-#[derive(Clone, Copy)]
-struct Entry {
-    lo: [Real; 3],
-    hi: [Real; 3],
-    low_cell: [u32; 3],
-    face: u32,
+    items: Vec<usize>,
+    /// Per listed face: its bounding box (m) and its lowest cell.
+    boxes: Vec<(Vec3, Vec3)>,
+    low_cells: Vec<Cell>,
 }
 
 type Cell = nalgebra::Vector3<usize>;
@@ -159,6 +152,8 @@ impl FaceGrid {
             dims: [d.x, d.y, d.z],
             start: vec![0; d.x * d.y * d.z + 1],
             items: Vec::new(),
+            boxes: Vec::new(),
+            low_cells: Vec::new(),
         };
         let face_cells: Vec<(Cell, Cell)> = boxes.iter().map(|&(a, b)| grid.cells(a, b)).collect();
         for &(a, b) in &face_cells {
@@ -169,27 +164,16 @@ impl FaceGrid {
             grid.start[c + 1] += grid.start[c];
         }
         let mut fill = grid.start.clone();
-        let empty = Entry {
-            lo: [0.0; 3],
-            hi: [0.0; 3],
-            low_cell: [0; 3],
-            face: 0,
-        };
-        grid.items = vec![empty; grid.start[grid.start.len() - 1]];
-        for (k, (&(a, b), &(face_lo, face_hi))) in face_cells.iter().zip(&boxes).enumerate() {
-            let entry = Entry {
-                lo: face_lo.into(),
-                hi: face_hi.into(),
-                // Cells are at most 1e6 + 1 per axis.
-                low_cell: a.map(|c| c as u32).into(),
-                face: k as u32,
-            };
+        grid.items = vec![0; grid.start[grid.start.len() - 1]];
+        for (k, &(a, b)) in face_cells.iter().enumerate() {
             let (dims, items) = (grid.dims, &mut grid.items);
             for_each_cell(dims, a, b, |c, _| {
-                items[fill[c]] = entry;
+                items[fill[c]] = k;
                 fill[c] += 1;
             });
         }
+        grid.low_cells = face_cells.iter().map(|&(a, _)| a).collect();
+        grid.boxes = boxes;
         grid
     }
 
@@ -204,12 +188,13 @@ impl FaceGrid {
         (at(lo), at(hi))
     }
 
-    /// Calls `f(entry, cell)` for every face listed in every cell from `lo` to `hi`, with the
-    /// cell's coordinates (a face in several cells comes once per cell).
-    fn visit(&self, lo: Cell, hi: Cell, mut f: impl FnMut(&Entry, Cell)) {
+    /// Calls `f(k, cell)` for every face listed in every cell from `lo` to `hi` (`k` its index in
+    /// the listed faces), with the cell's coordinates (a face in several cells comes once per
+    /// cell).
+    fn visit(&self, lo: Cell, hi: Cell, mut f: impl FnMut(usize, Cell)) {
         for_each_cell(self.dims, lo, hi, |c, cell| {
-            for entry in &self.items[self.start[c]..self.start[c + 1]] {
-                f(entry, cell);
+            for &face in &self.items[self.start[c]..self.start[c + 1]] {
+                f(face, cell);
             }
         });
     }
