@@ -35,8 +35,8 @@ pub struct MetricsRow {
     /// Largest depth of an obstacle through the cloth surface, faces included (m).
     pub max_surface_penetration: Real,
     /// The cloth's crossings with itself (edge-face pairs sharing no vertex, the edge through the
-    /// face).
-    pub self_intersections: usize,
+    /// face); `None` (an empty cell) on a row where it was not measured.
+    pub self_intersections: Option<usize>,
     /// Vertices in contact during the last step.
     pub contacts: usize,
     /// Adaptation events in the last step.
@@ -122,7 +122,7 @@ impl MetricsWriter {
             r.kinetic_energy,
             r.max_penetration,
             r.max_surface_penetration,
-            r.self_intersections,
+            r.self_intersections.map_or(String::new(), |n| n.to_string()),
             r.contacts,
             r.adapt_events,
             r.adapt_energy_change,

@@ -70,7 +70,8 @@ pub fn say_skipped(why: &str) {
     let _ = writeln!(std::io::stderr(), "SKIPPED: {why}");
 }
 
-/// Every row's value of column `name` of the metrics table a run wrote into `out`.
+/// Every row's value of column `name` of the metrics table a run wrote into `out` (an empty cell
+/// reads NaN).
 pub fn metrics_column(out: &Path, name: &str) -> Vec<f64> {
     let text = std::fs::read_to_string(out.join("metrics.csv")).unwrap();
     let mut lines = text.lines();
@@ -80,6 +81,9 @@ pub fn metrics_column(out: &Path, name: &str) -> Vec<f64> {
         .position(|h| *h == name)
         .unwrap_or_else(|| panic!("no column {name}"));
     lines
-        .map(|l| l.split(',').nth(column).unwrap().parse().unwrap())
+        .map(|l| match l.split(',').nth(column).unwrap() {
+            "" => f64::NAN,
+            cell => cell.parse().unwrap(),
+        })
         .collect()
 }
