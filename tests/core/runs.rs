@@ -5,13 +5,21 @@ use adaptcloth::sim::{self, RunOptions, RunStatus, Simulation};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 
-/// Reads `metrics.csv` into its header and rows.
+/// Reads `metrics.csv` into its header and rows; an empty cell (a measure not taken on that row)
+/// reads NaN, anything else must be a number.
 fn metrics(dir: &std::path::Path) -> (Vec<String>, Vec<Vec<f64>>) {
     let text = std::fs::read_to_string(dir.join("metrics.csv")).expect("metrics.csv");
     let mut lines = text.lines();
     let header: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
     let rows = lines
-        .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap()).collect())
+        .map(|l| {
+            l.split(',')
+                .map(|x| match x {
+                    "" => f64::NAN,
+                    x => x.parse::<f64>().unwrap(),
+                })
+                .collect()
+        })
         .collect();
     (header, rows)
 }
@@ -81,6 +89,17 @@ fn metrics_have_the_required_columns() {
     }
     let last = rows.last().unwrap();
     assert_eq!(last[0] as u64, summary.steps);
+    // The crossing count is taken on the frames' rows and the last one only.
+    let crossings = header
+        .iter()
+        .position(|h| h == "self_intersections")
+        .unwrap();
+    let taken = rows.iter().filter(|r| !r[crossings].is_nan()).count();
+    assert!(!last[crossings].is_nan());
+    assert!(
+        taken >= summary.frames && taken <= summary.frames + 1,
+        "{taken} rows"
+    );
     // The tracked corner P = (1, 1) starts at the world corner (0.5, 0.5, 0.3).
     let px = header.iter().position(|h| h == "P_x").unwrap();
     assert!((rows[0][px] - 0.5).abs() < 1e-12);
