@@ -11,7 +11,7 @@
 //! only when it adds no energy, or when the touched vertices' relative kinetic energy can pay the
 //! gain (a momentum-neutral scaling, [`restore_kinetic_energy`]).
 
-use super::edit_crosses;
+use super::crossing_check::edit_crosses_with;
 use super::relax::relax;
 use super::transfer::{apply_checked_edit_with, restore_kinetic_energy, Transfer, TransferOptions};
 use crate::cloth::Cloth;
@@ -180,7 +180,9 @@ pub fn apply_edit_conserving(
         .iter()
         .map(|&x| options.obstacles.map_or(x, |o| o.push_out(x)))
         .collect();
-    if options.refuse_crossings && edit_crosses(cloth, edit, &positions) {
+    if options.refuse_crossings
+        && edit_crosses_with(options.crossing_guard, cloth, edit, &positions)
+    {
         return Err(ConservingError::Edit(EditError::CrossesCloth));
     }
     // `energy_trial` checked the edit on this mesh, unchanged since; the crossings were checked

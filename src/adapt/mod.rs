@@ -23,7 +23,7 @@ mod target;
 mod transfer;
 
 pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
-pub use crossing_check::edit_crosses;
+pub use crossing_check::{edit_crosses, CrossingGuard};
 pub use energy::{
     apply_edit_conserving, energy_trial, relative_kinetic_energy, ConservingError, EnergyTrial,
 };
@@ -71,6 +71,7 @@ impl AdaptContext<'_> {
                 restore_momentum: self.params.restore_momentum,
                 restore_energy: self.params.restore_energy,
                 refuse_crossings: self.params.refuse_crossings,
+                crossing_guard: None,
             },
         )
     }

@@ -3,8 +3,9 @@
 //! interface, so every strategy's operations are written once and tested both ways.
 
 use super::energy::{apply_edit_conserving, ConservingError};
-use super::transfer::{apply_edit_with, TransferOptions};
+use super::transfer::{apply_edit_with, Transfer, TransferOptions};
 use super::AdaptReport;
+use super::CrossingGuard;
 use crate::cloth::Cloth;
 use crate::mesh::{Edit, EditError, EditRecord, Mesh};
 
@@ -34,7 +35,9 @@ impl EditTarget for Mesh {
 
 /// A cloth edited through the state-transfer service ([`apply_edit_with`]: interpolated state,
 /// push-out, masses, momentum and optional energy restoration); every applied edit is added to
-/// `report`.
+/// `report`. With `refuse_crossings`, the edits are checked through one [`CrossingGuard`] built
+/// at the first edit: between edits a strategy may move the vertices its edits added, never the
+/// others.
 pub struct ClothTarget<'a, 'o> {
     /// The cloth.
     pub cloth: &'a mut Cloth,
@@ -42,6 +45,8 @@ pub struct ClothTarget<'a, 'o> {
     pub options: TransferOptions<'o>,
     /// What the applied edits changed.
     pub report: AdaptReport,
+    /// The crossing check's faces near an edit (with `refuse_crossings`, from the first edit).
+    guard: Option<CrossingGuard>,
 }
 
 impl<'a, 'o> ClothTarget<'a, 'o> {
@@ -51,6 +56,27 @@ impl<'a, 'o> ClothTarget<'a, 'o> {
             cloth,
             options,
             report: AdaptReport::default(),
+            guard: None,
+        }
+    }
+
+    /// The cloth and the options of its next edit: with `refuse_crossings`, through the guard.
+    fn cloth_and_options(&mut self) -> (&mut Cloth, TransferOptions<'_>) {
+        if self.options.refuse_crossings && self.guard.is_none() {
+            self.guard = Some(CrossingGuard::new(self.cloth));
+        }
+        let options = TransferOptions {
+            crossing_guard: self.guard.as_ref(),
+            ..self.options
+        };
+        (self.cloth, options)
+    }
+
+    /// Adds an applied edit to the report and the guard.
+    fn applied(&mut self, t: &Transfer) {
+        self.report.add(t);
+        if let Some(guard) = &mut self.guard {
+            guard.applied(&t.record);
         }
     }
 }
@@ -61,14 +87,16 @@ impl EditTarget for ClothTarget<'_, '_> {
     }
 
     fn apply(&mut self, edit: &Edit) -> Result<EditRecord, EditError> {
-        let t = apply_edit_with(self.cloth, edit, &self.options)?;
-        self.report.add(&t);
+        let (cloth, options) = self.cloth_and_options();
+        let t = apply_edit_with(cloth, edit, &options)?;
+        self.applied(&t);
         Ok(t.record)
     }
 
     fn apply_conserving(&mut self, edit: &Edit) -> Result<EditRecord, ConservingError> {
-        let t = apply_edit_conserving(self.cloth, edit, &self.options)?;
-        self.report.add(&t);
+        let (cloth, options) = self.cloth_and_options();
+        let t = apply_edit_conserving(cloth, edit, &options)?;
+        self.applied(&t);
         Ok(t.record)
     }
 }

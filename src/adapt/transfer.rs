@@ -1,6 +1,7 @@
 //! The state-transfer service: applies one mesh edit and keeps the physics consistent.
 
-use super::edit_crosses;
+use super::crossing_check::edit_crosses_with;
+use super::CrossingGuard;
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::{Real, Vec3};
@@ -32,6 +33,10 @@ pub struct TransferOptions<'a> {
     /// new vertices where they would be put, would cross the cloth ([`super::edit_crosses`]).
     /// Default off.
     pub refuse_crossings: bool,
+    /// With `refuse_crossings`, the guard of the adaptation pass under way, which finds the faces
+    /// near the edit without a pass over every face ([`CrossingGuard`]; it must follow this
+    /// cloth). Default none: every face's box is looked at.
+    pub crossing_guard: Option<&'a CrossingGuard>,
 }
 
 /// Applies `edit` to the cloth (MODEL.md §6): the mesh edit is checked (the cloth is untouched on
@@ -53,6 +58,7 @@ pub fn apply_edit(
             restore_momentum,
             restore_energy: false,
             refuse_crossings: false,
+            crossing_guard: None,
         },
     )
 }
@@ -93,6 +99,7 @@ fn transfer(
         restore_momentum,
         restore_energy,
         refuse_crossings,
+        crossing_guard,
     } = *options;
     // Old vertices whose mass changes: every vertex of a removed face.
     let mut touched: Vec<VertexId> = edit
@@ -114,7 +121,7 @@ fn transfer(
         .collect();
     if refuse_crossings {
         let positions: Vec<Vec3> = interpolated.iter().map(|(x, _)| *x).collect();
-        if edit_crosses(cloth, edit, &positions) {
+        if edit_crosses_with(crossing_guard, cloth, edit, &positions) {
             return Err(EditError::CrossesCloth);
         }
     }

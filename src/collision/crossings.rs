@@ -6,9 +6,9 @@
 //! and the line through it passes strictly inside the triangle (three signed volumes of one
 //! sign). Touching, grazing and coplanar configurations are not counted; a sheet passing through
 //! another shows as at least one crossing along every line where they cut. Candidate faces come
-//! from a uniform grid of the faces' bounding boxes built for each measure (cells about a face's
-//! size), so a measure costs about linear time in the faces for a cloth of even elements.
+//! from a uniform grid of the faces' bounding boxes built for each measure ([`FaceGrid`]), so a measure costs about linear time in the faces for a cloth of even elements.
 
+use super::face_grid::{bounds, FaceGrid};
 use crate::math::{Real, Vec3};
 use rayon::prelude::*;
 
@@ -35,10 +35,6 @@ pub fn segment_crosses_triangle(p: Vec3, q: Vec3, [a, b, c]: [Vec3; 3]) -> bool 
     let sides = [orient(p, q, a, b), orient(p, q, b, c), orient(p, q, c, a)];
     sides.iter().all(|&s| s > 0.0) || sides.iter().all(|&s| s < 0.0)
 }
-
-/// Most grid cells per face on average: the cell grows until the grid has at most this many
-/// cells per face.
-const CELLS_PER_FACE: usize = 4;
 
 /// Counts the crossings of the mesh with faces `faces` and edges `edges` (vertex slots) at
 /// positions `x` (m): pairs of an edge and a face sharing no vertex where the edge passes through
@@ -83,16 +79,7 @@ fn crossings_of(
             continue;
         }
         let (lo, hi) = bounds(&[x[p], x[q]]);
-        let (lo_cell, hi_cell) = grid.cells(lo, hi);
-        grid.visit(lo_cell, hi_cell, |k, cell| {
-            let (face_lo, face_hi) = grid.boxes[k];
-            // A pair is tested in the first cell both boxes share, so once; then the boxes must
-            // overlap and the two share no vertex.
-            if grid.low_cells[k].sup(&lo_cell) != cell
-                || (0..3).any(|a| face_lo[a] > hi[a] || face_hi[a] < lo[a])
-            {
-                return;
-            }
+        grid.visit_overlapping(lo, hi, |k| {
             let face = faces[live[k]];
             if !face.contains(&p)
                 && !face.contains(&q)
@@ -103,123 +90,6 @@ fn crossings_of(
         });
     }
     count
-}
-
-/// A uniform grid of cubic cells over the faces' bounding box, each cell listing the faces whose
-/// bounding boxes overlap it (compressed rows, faces in ascending order within a cell).
-struct FaceGrid {
-    origin: Vec3,
-    inv_cell: Real,
-    dims: [usize; 3],
-    start: Vec<usize>,
-    items: Vec<usize>,
-    /// Per listed face: its bounding box (m) and its lowest cell.
-    boxes: Vec<(Vec3, Vec3)>,
-    low_cells: Vec<Cell>,
-}
-
-type Cell = nalgebra::Vector3<usize>;
-
-impl FaceGrid {
-    /// The grid of the faces `live` (indices into `faces`, every position finite) at `x`; the
-    /// listed faces are numbered as in `live`.
-    fn new(x: &[Vec3], faces: &[[usize; 3]], live: &[usize]) -> FaceGrid {
-        let boxes: Vec<(Vec3, Vec3)> = live
-            .iter()
-            .map(|&f| bounds(&faces[f].map(|i| x[i])))
-            .collect();
-        let mut lo = Vec3::repeat(Real::INFINITY);
-        let mut hi = Vec3::repeat(Real::NEG_INFINITY);
-        let mut extent_sum = 0.0;
-        for &(a, b) in &boxes {
-            lo = lo.inf(&a);
-            hi = hi.sup(&b);
-            extent_sum += (b - a).max();
-        }
-        let span = (hi - lo).max();
-        let mut cell = (extent_sum / live.len() as Real).max(span * 1e-9);
-        if cell.is_nan() || cell <= 0.0 {
-            cell = 1.0; // every face is a point
-        }
-        let dims_for = |c: Real| (hi - lo).map(|e| (e / c).min(1e6) as usize + 1);
-        while dims_for(cell).iter().product::<usize>() > CELLS_PER_FACE * live.len() {
-            cell *= 2.0;
-        }
-        let d = dims_for(cell);
-        let mut grid = FaceGrid {
-            origin: lo,
-            inv_cell: 1.0 / cell,
-            dims: [d.x, d.y, d.z],
-            start: vec![0; d.x * d.y * d.z + 1],
-            items: Vec::new(),
-            boxes: Vec::new(),
-            low_cells: Vec::new(),
-        };
-        let face_cells: Vec<(Cell, Cell)> = boxes.iter().map(|&(a, b)| grid.cells(a, b)).collect();
-        for &(a, b) in &face_cells {
-            let start = &mut grid.start;
-            for_each_cell(grid.dims, a, b, |c, _| start[c + 1] += 1);
-        }
-        for c in 0..grid.start.len() - 1 {
-            grid.start[c + 1] += grid.start[c];
-        }
-        let mut fill = grid.start.clone();
-        grid.items = vec![0; grid.start[grid.start.len() - 1]];
-        for (k, &(a, b)) in face_cells.iter().enumerate() {
-            let (dims, items) = (grid.dims, &mut grid.items);
-            for_each_cell(dims, a, b, |c, _| {
-                items[fill[c]] = k;
-                fill[c] += 1;
-            });
-        }
-        grid.low_cells = face_cells.iter().map(|&(a, _)| a).collect();
-        grid.boxes = boxes;
-        grid
-    }
-
-    /// The lowest and highest cells (per axis) of the box `[lo, hi]` (m; clamped to the grid).
-    fn cells(&self, lo: Vec3, hi: Vec3) -> (Cell, Cell) {
-        let at = |p: Vec3| {
-            Cell::from_fn(|k, _| {
-                let c = ((p[k] - self.origin[k]) * self.inv_cell).max(0.0);
-                (c as usize).min(self.dims[k] - 1)
-            })
-        };
-        (at(lo), at(hi))
-    }
-
-    /// Calls `f(k, cell)` for every face listed in every cell from `lo` to `hi` (`k` its index in
-    /// the listed faces), with the cell's coordinates (a face in several cells comes once per
-    /// cell).
-    fn visit(&self, lo: Cell, hi: Cell, mut f: impl FnMut(usize, Cell)) {
-        for_each_cell(self.dims, lo, hi, |c, cell| {
-            for &face in &self.items[self.start[c]..self.start[c + 1]] {
-                f(face, cell);
-            }
-        });
-    }
-}
-
-/// Calls `f(index, cell)` for every cell from `lo` to `hi` of a grid of `dims` cells.
-fn for_each_cell(dims: [usize; 3], lo: Cell, hi: Cell, mut f: impl FnMut(usize, Cell)) {
-    for k in lo.z..=hi.z {
-        for j in lo.y..=hi.y {
-            for i in lo.x..=hi.x {
-                f(i + dims[0] * (j + dims[1] * k), Cell::new(i, j, k));
-            }
-        }
-    }
-}
-
-/// The componentwise minimum and maximum of `points` (m).
-fn bounds(points: &[Vec3]) -> (Vec3, Vec3) {
-    let mut lo = Vec3::repeat(Real::INFINITY);
-    let mut hi = Vec3::repeat(Real::NEG_INFINITY);
-    for p in points {
-        lo = lo.inf(p);
-        hi = hi.sup(p);
-    }
-    (lo, hi)
 }
 
 #[cfg(test)]

@@ -22,7 +22,8 @@
 //! (obstacles against the cloth's triangles: the surface penetration),
 //! `cylinder_ray` (closed-form ray entry into a cylinder, in place of parry's GJK), `grid` (mesh
 //! signed-distance bounds), `crossings` (the cloth's crossings with itself:
-//! [`self_intersections`]), `error` ([`CollisionError`]).
+//! [`self_intersections`]), `face_grid` (a uniform grid of triangles' boxes, for the measure and
+//! adaptation's crossing check), `error` ([`CollisionError`]).
 //!
 //! Depths and distances are measured from the raw surface (margin not included): the promise
 //! "no penetration beyond the collision margin" reads `max_penetration <= margin`.
@@ -30,6 +31,7 @@
 mod crossings;
 mod cylinder_ray;
 mod error;
+mod face_grid;
 mod faces;
 mod grid;
 mod motion;
@@ -43,6 +45,7 @@ mod tests;
 
 pub use crossings::{segment_crosses_triangle, self_intersections};
 pub use error::CollisionError;
+pub(crate) use face_grid::FaceGrid;
 pub use faces::{FaceContactStats, FaceScratch};
 pub use motion::ObstacleMotion;
 pub use params::{ContactParams, Obstacle, ObstacleShape};

@@ -5,7 +5,7 @@ use super::tests::{
     check_invariants, config, face_set, find_face, grid, merge_all, vertex_set, Checked,
 };
 use super::*;
-use crate::adapt::{AdaptReport, ClothTarget, EditTarget, TransferOptions};
+use crate::adapt::{ClothTarget, EditTarget, TransferOptions};
 use crate::math::{Real, Vec3};
 use crate::mesh::{Mesh, VertexId};
 use proptest::prelude::*;
@@ -134,10 +134,10 @@ proptest! {
         let (m0, p0, e0) = (cloth.model.total_mass(), cloth.linear_momentum(), cloth.kinetic_energy());
         let area0 = cloth.mesh.pattern_area();
         let mut recorded = 0.0;
-        let options = TransferOptions { obstacles: None, restore_momentum: true, restore_energy, refuse_crossings: false };
+        let options = TransferOptions { obstacles: None, restore_momentum: true, restore_energy, refuse_crossings: false, crossing_guard: None };
         for (i, (kind, pick)) in ops.into_iter().enumerate() {
             let mut target = Checked {
-                inner: ClothTarget { cloth: &mut cloth, options, report: AdaptReport::default() },
+                inner: ClothTarget::new(&mut cloth, options),
                 failures: Vec::new(),
                 edits: 0,
             };
