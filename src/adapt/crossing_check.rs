@@ -4,8 +4,9 @@
 
 use crate::cloth::Cloth;
 use crate::collision::{segment_crosses_triangle, FaceGrid};
-use crate::math::Vec3;
-use crate::mesh::{Edit, EditRecord, FaceId, VertexRef};
+use crate::math::{Real, Vec3};
+use crate::mesh::{Edit, EditRecord, FaceId, VertexId, VertexRef};
+use std::collections::HashMap;
 
 /// A vertex of the edited mesh: an old vertex slot, or a new vertex (`usize::MAX - k` for new
 /// vertex `k`), so the two never collide.
@@ -44,18 +45,20 @@ pub(super) fn edit_crosses_with(
 }
 
 /// The faces of a cloth when an adaptation pass starts, in a grid of their boxes
-/// ([`FaceGrid`]), and the faces the pass has added since: [`CrossingGuard::edit_crosses`]
-/// answers as [`edit_crosses`] does, looking only at the faces near the edit.
+/// ([`FaceGrid`]), and the faces the pass has added since, hashed by their boxes
+/// ([`AddedFaces`]): [`CrossingGuard::edit_crosses`] answers as [`edit_crosses`] does, looking
+/// only at the faces near the edit.
 ///
-/// Contract: the vertices the cloth had when the guard was built do not move while it is used
-/// (edits add vertices, which may move: the faces added are tested at their current boxes), and
-/// every edit applied to the cloth is passed to [`CrossingGuard::applied`].
+/// Contract: the vertices the cloth had when the guard was built do not move while it is used;
+/// every edit applied to the cloth is passed to [`CrossingGuard::applied`], and a vertex an edit
+/// added that moves afterwards is passed to [`CrossingGuard::moved`] (as
+/// [`super::ClothTarget::place`] does).
 pub struct CrossingGuard {
     grid: FaceGrid,
     /// The faces listed in the grid (numbered as there) and their vertex slots at the start.
     start_faces: Vec<(FaceId, [usize; 3])>,
     /// Faces added by the edits applied since.
-    added: Vec<FaceId>,
+    added: AddedFaces,
 }
 
 impl CrossingGuard {
@@ -71,16 +74,28 @@ impl CrossingGuard {
             .collect();
         let slots: Vec<[usize; 3]> = start_faces.iter().map(|&(_, f)| f).collect();
         let listed: Vec<usize> = (0..slots.len()).collect();
+        let grid = FaceGrid::new(&cloth.x, &slots, &listed);
         CrossingGuard {
-            grid: FaceGrid::new(&cloth.x, &slots, &listed),
+            added: AddedFaces::new(grid.cell_size()),
+            grid,
             start_faces,
-            added: Vec::new(),
         }
     }
 
-    /// Records an edit applied to the cloth: its new faces are tested from now on.
-    pub fn applied(&mut self, record: &EditRecord) {
-        self.added.extend(&record.added_faces);
+    /// Records an edit applied to `cloth`: its new faces are tested from now on.
+    pub fn applied(&mut self, cloth: &Cloth, record: &EditRecord) {
+        for &id in &record.added_faces {
+            self.added.insert(id, face_box(cloth, id));
+        }
+        self.added.all.extend(&record.added_faces);
+    }
+
+    /// Records that vertex `v`, added by an edit since the guard was built, moved: the faces
+    /// around it are hashed again at their boxes now.
+    pub fn moved(&mut self, cloth: &Cloth, v: VertexId) {
+        for &id in cloth.mesh.vertex_faces(v) {
+            self.added.insert(id, face_box(cloth, id));
+        }
     }
 
     /// [`edit_crosses`] for the cloth the guard follows.
@@ -92,7 +107,6 @@ impl CrossingGuard {
             return true;
         }
         let mesh = &cloth.mesh;
-        let face_box = |f: [usize; 3]| bounds(f.map(|k| cloth.x[k]));
         let mut found = false;
         // A listed face still in the mesh as it was (a face id may be reused: the new face is
         // among the added ones).
@@ -102,16 +116,101 @@ impl CrossingGuard {
                 found = found
                     || (mesh.is_face(id)
                         && mesh.face(id).map(|v| v.0 as usize) == f
-                        && shape.kept_face_crosses(id, f, &face_box(f)));
+                        && shape.kept_face_crosses(id, f, &face_box(cloth, id)));
             });
         found
-            || self.added.iter().any(|&id| {
+            || self.added.any_near(&shape.region, |id| {
                 mesh.is_face(id) && {
                     let f = mesh.face(id).map(|v| v.0 as usize);
-                    shape.kept_face_crosses(id, f, &face_box(f))
+                    shape.kept_face_crosses(id, f, &face_box(cloth, id))
                 }
             })
     }
+}
+
+/// Most cells a face is hashed into: a face whose box spans more is tested at every check.
+const MAX_FACE_CELLS: Real = 64.0;
+
+/// Most cells a check looks up: an edit whose box spans more tests every added face.
+const MAX_REGION_CELLS: Real = 4096.0;
+
+/// The faces a pass added, hashed by the cubic cells (edge `cell`, m) their boxes met when they
+/// were hashed. An entry may be stale (its face since removed, its id reused, its vertex
+/// moved and hashed again elsewhere): a check tests each candidate at its current box, so a stale
+/// entry costs a test and hides nothing.
+struct AddedFaces {
+    cell: Real,
+    /// Every face added, in order.
+    all: Vec<FaceId>,
+    cells: HashMap<[i64; 3], Vec<FaceId>>,
+    /// Faces whose box spans more than [`MAX_FACE_CELLS`] cells.
+    wide: Vec<FaceId>,
+}
+
+impl AddedFaces {
+    fn new(cell: Real) -> AddedFaces {
+        AddedFaces {
+            cell,
+            all: Vec::new(),
+            cells: HashMap::new(),
+            wide: Vec::new(),
+        }
+    }
+
+    /// The lowest and highest cells of box `b`, and how many cells that range holds (a float:
+    /// huge or non-finite boxes give huge counts, never an overflow).
+    fn cells_of(&self, b: &Bounds) -> ([i64; 3], [i64; 3], Real) {
+        let cell = |p: Vec3| [0, 1, 2].map(|k| (p[k] / self.cell).floor() as i64);
+        let (lo, hi) = (cell(b.0), cell(b.1));
+        let count = (0..3)
+            .map(|k| hi[k].saturating_sub(lo[k]) as Real + 1.0)
+            .product::<Real>();
+        (lo, hi, if count.is_finite() { count } else { Real::MAX })
+    }
+
+    /// Hashes face `id` at its box `b` (m).
+    fn insert(&mut self, id: FaceId, b: Bounds) {
+        let (lo, hi, count) = self.cells_of(&b);
+        if !(1.0..=MAX_FACE_CELLS).contains(&count) {
+            self.wide.push(id);
+            return;
+        }
+        for_each_cell(lo, hi, |c| self.cells.entry(c).or_default().push(id));
+    }
+
+    /// Whether `test` holds for a face hashed in a cell that the box `region` meets (or for any
+    /// added face, when the region spans too many cells); a face may be tested more than once.
+    fn any_near(&self, region: &Bounds, mut test: impl FnMut(FaceId) -> bool) -> bool {
+        let (lo, hi, count) = self.cells_of(region);
+        if !(1.0..=MAX_REGION_CELLS).contains(&count) {
+            return self.all.iter().any(|&id| test(id));
+        }
+        let mut found = self.wide.iter().any(|&id| test(id));
+        for_each_cell(lo, hi, |c| {
+            found = found
+                || self
+                    .cells
+                    .get(&c)
+                    .is_some_and(|ids| ids.iter().any(|&id| test(id)));
+        });
+        found
+    }
+}
+
+/// Calls `f` for every cell from `lo` to `hi` (a range of at most a few thousand cells).
+fn for_each_cell(lo: [i64; 3], hi: [i64; 3], mut f: impl FnMut([i64; 3])) {
+    for k in lo[2]..=hi[2] {
+        for j in lo[1]..=hi[1] {
+            for i in lo[0]..=hi[0] {
+                f([i, j, k]);
+            }
+        }
+    }
+}
+
+/// The box of the cloth's face `id` (m).
+fn face_box(cloth: &Cloth, id: FaceId) -> Bounds {
+    bounds(cloth.mesh.face(id).map(|v| cloth.x[v.0 as usize]))
 }
 
 /// An edit's new faces and edges, at the positions they would take, with their boxes.
@@ -348,8 +447,10 @@ mod tests {
                     crosses_by_every_pair(&cloth, &edit, &at)
                 );
                 let t = apply_edit(&mut cloth, &edit, None, false).expect("a valid split");
-                cloth.x[t.record.added_vertices[0].0 .0 as usize] = at[0];
-                guard.applied(&t.record);
+                guard.applied(&cloth, &t.record);
+                let v = t.record.added_vertices[0].0;
+                cloth.x[v.0 as usize] = at[0];
+                guard.moved(&cloth, v);
             }
         }
     }

@@ -90,7 +90,9 @@ pub enum ConservingError {
 /// with `options` but without pushing new vertices out of obstacles (that is the collision
 /// response, not the edit), then the new vertices relaxed ([`relax`], to a resolution of
 /// `1e-3` of the allowance) unless the gain at their interpolated positions is already within the
-/// allowance (then they stay there: the edit needs no payment). The cloth is not changed.
+/// allowance (then they stay there: the edit needs no payment). The relaxation stops at the first
+/// iteration that brings the gain within the allowance: relaxing further would take energy out
+/// of the cloth that the law does not ask for. The cloth is not changed.
 pub fn energy_trial(
     cloth: &Cloth,
     edit: &Edit,
@@ -143,10 +145,13 @@ pub fn energy_trial(
     };
     let weight = sub.model.total_mass() * g;
     let tolerance = ALLOWANCE_HEIGHT * weight + ROUNDING * magnitude;
-    let mut gain = sub.model.energies(&sub.x, &sub.v).total() - before.total();
+    let gain_at = |c: &Cloth, x: &[Vec3]| c.model.energies(x, &c.v).total() - before.total();
+    let mut gain = gain_at(&sub, &sub.x);
     if gain > tolerance && !new.is_empty() {
-        relax(&mut sub, &new, RELAX_RESOLUTION * tolerance);
-        gain = sub.model.energies(&sub.x, &sub.v).total() - before.total();
+        relax(&mut sub, &new, RELAX_RESOLUTION * tolerance, |c, x| {
+            gain_at(c, x) <= tolerance
+        });
+        gain = gain_at(&sub, &sub.x);
     }
     let touched = touched(&sub.mesh, &transfer.record);
     Ok(EnergyTrial {

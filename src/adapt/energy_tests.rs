@@ -177,14 +177,36 @@ fn relaxation_lowers_the_potential_and_brings_a_displaced_vertex_back() {
     cloth.x[12] += Vec3::new(0.05, 0.03, 0.02);
     let still = vec![Vec3::zeros(); cloth.x.len()];
     let before = cloth.model.energies(&cloth.x, &still).total();
-    let decrease = relax(&mut cloth, &[v], 0.0);
+    let decrease = relax(&mut cloth, &[v], 0.0, |_, _| false);
     let after = cloth.model.energies(&cloth.x, &still).total();
     assert!(decrease > 0.0 && (before - after - decrease).abs() <= 1e-12 * before);
     assert!(after <= 1e-6 * before, "{before} -> {after}");
     assert!((cloth.x[12] - home).norm() < 0.01, "{}", cloth.x[12] - home);
     // Held vertices do not move, and relaxing again gains little.
     assert_eq!(cloth.x[11], testing::lifted(&cloth.mesh)[11]);
-    assert!(relax(&mut cloth, &[v], 0.0) <= 1e-6 * before);
+    assert!(relax(&mut cloth, &[v], 0.0, |_, _| false) <= 1e-6 * before);
+}
+
+#[test]
+fn relaxation_stops_once_enough_holds() {
+    // Stopped at half the displaced vertex's energy: at or below it, yet above the minimum
+    // that relaxing to the end reaches.
+    let displaced = || {
+        let mut cloth = elastic_sheet();
+        cloth.x[12] += Vec3::new(0.05, 0.03, 0.02);
+        cloth
+    };
+    let (mut cloth, mut full) = (displaced(), displaced());
+    let still = vec![Vec3::zeros(); cloth.x.len()];
+    let energy = |c: &Cloth, x: &[Vec3]| c.model.energies(x, &still).total();
+    let before = energy(&cloth, &cloth.x);
+    relax(&mut cloth, &[VertexId(12)], 0.0, |c, x| {
+        energy(c, x) <= 0.5 * before
+    });
+    relax(&mut full, &[VertexId(12)], 0.0, |_, _| false);
+    let (stopped, relaxed) = (energy(&cloth, &cloth.x), energy(&full, &full.x));
+    assert!(stopped <= 0.5 * before, "{before} -> {stopped}");
+    assert!(stopped > relaxed, "{stopped} <= {relaxed}");
 }
 
 #[test]
@@ -228,7 +250,7 @@ fn relaxation_brings_two_neighbouring_displaced_vertices_back_together() {
     cloth.x[13] += Vec3::new(0.04, -0.02, 0.03);
     let still = vec![Vec3::zeros(); cloth.x.len()];
     let before = cloth.model.energies(&cloth.x, &still).total();
-    relax(&mut cloth, &[VertexId(13), VertexId(12)], 0.0);
+    relax(&mut cloth, &[VertexId(13), VertexId(12)], 0.0, |_, _| false);
     let after = cloth.model.energies(&cloth.x, &still).total();
     assert!(after <= 1e-6 * before, "{before} -> {after}");
     for i in [12, 13] {

@@ -28,9 +28,15 @@ const REGULARISATION: Real = 1e-3;
 /// one coupled Gauss-Newton step of their springs, `dx = s H^-1 f`, with `f` the elastic forces
 /// and `H` the Gauss-Newton stiffness of the stretched springs over the moved vertices (N/m, dense:
 /// they are few), `s` halved until the energy falls. Stops when an iteration lowers the energy by
-/// at most `resolution` (J; 0 for the tightest stop) or a `1e-12` fraction of it. Never raises the
-/// elastic energy. Returns its decrease (J).
-pub fn relax(cloth: &mut Cloth, vertices: &[VertexId], resolution: Real) -> Real {
+/// at most `resolution` (J; 0 for the tightest stop) or a `1e-12` fraction of it, or as soon as
+/// `enough(cloth, x)` holds for the positions `x` an iteration reached (the cloth as it was before
+/// the call). Never raises the elastic energy. Returns its decrease (J).
+pub fn relax(
+    cloth: &mut Cloth,
+    vertices: &[VertexId],
+    resolution: Real,
+    enough: impl Fn(&Cloth, &[Vec3]) -> bool,
+) -> Real {
     let inv = cloth.model.inv_mass();
     let mut movable: Vec<usize> = vertices
         .iter()
@@ -90,7 +96,9 @@ pub fn relax(cloth: &mut Cloth, vertices: &[VertexId], resolution: Real) -> Real
             x[i] = trial[i];
         }
         step = (2.0 * step).min(1.0);
-        if decrease <= resolution.max(MIN_DECREASE * u.abs().max(Real::MIN_POSITIVE)) {
+        if decrease <= resolution.max(MIN_DECREASE * u.abs().max(Real::MIN_POSITIVE))
+            || enough(cloth, &x)
+        {
             break;
         }
     }

@@ -7,7 +7,8 @@ use super::transfer::{apply_edit_with, Transfer, TransferOptions};
 use super::AdaptReport;
 use super::CrossingGuard;
 use crate::cloth::Cloth;
-use crate::mesh::{Edit, EditError, EditRecord, Mesh};
+use crate::math::Vec3;
+use crate::mesh::{Edit, EditError, EditRecord, Mesh, VertexId};
 
 /// Where the operations apply their edits.
 pub trait EditTarget {
@@ -36,8 +37,8 @@ impl EditTarget for Mesh {
 /// A cloth edited through the state-transfer service ([`apply_edit_with`]: interpolated state,
 /// push-out, masses, momentum and optional energy restoration); every applied edit is added to
 /// `report`. With `refuse_crossings`, the edits are checked through one [`CrossingGuard`] built
-/// at the first edit: between edits a strategy may move the vertices its edits added, never the
-/// others.
+/// at the first edit: between edits a strategy may move the vertices its edits added, through
+/// [`ClothTarget::place`], never the others.
 pub struct ClothTarget<'a, 'o> {
     /// The cloth.
     pub cloth: &'a mut Cloth,
@@ -76,7 +77,16 @@ impl<'a, 'o> ClothTarget<'a, 'o> {
     fn applied(&mut self, t: &Transfer) {
         self.report.add(t);
         if let Some(guard) = &mut self.guard {
-            guard.applied(&t.record);
+            guard.applied(self.cloth, &t.record);
+        }
+    }
+
+    /// Moves vertex `v`, which an edit through this target added, to `x` (m), keeping the
+    /// crossing check informed (a strategy must not move the cloth's other vertices).
+    pub fn place(&mut self, v: VertexId, x: Vec3) {
+        self.cloth.x[v.0 as usize] = x;
+        if let Some(guard) = &mut self.guard {
+            guard.moved(self.cloth, v);
         }
     }
 }

@@ -80,6 +80,11 @@ impl FaceGrid {
         grid
     }
 
+    /// The edge of a cell (m).
+    pub(crate) fn cell_size(&self) -> Real {
+        1.0 / self.inv_cell
+    }
+
     /// The lowest and highest cells (per axis) of the box `[lo, hi]` (m; clamped to the grid).
     fn cells(&self, lo: Vec3, hi: Vec3) -> (Cell, Cell) {
         let at = |p: Vec3| {

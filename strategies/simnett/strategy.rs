@@ -16,7 +16,9 @@ use super::hierarchy::{EdgeRole, Hierarchy};
 use super::ops::{OpError, OpRecord};
 use crate::adapt::AdaptParams;
 use crate::adapt::RefineReason;
-use crate::adapt::{select, AdaptContext, AdaptError, AdaptReport, Adaptivity, EdgeInfo};
+use crate::adapt::{
+    select, AdaptContext, AdaptError, AdaptReport, Adaptivity, ClothTarget, EdgeInfo,
+};
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::Real;
@@ -124,7 +126,7 @@ impl Adaptivity for Simnett {
                 Ok(records) => {
                     if reason == RefineReason::Collision {
                         if let Some(r) = records.iter().find(|r| r.edge == e) {
-                            project_onto_surface(target.cloth, ctx.obstacles, r.mid, length);
+                            project_onto_surface(&mut target, ctx.obstacles, r.mid, length);
                         }
                     }
                 }
@@ -189,14 +191,18 @@ fn merge_candidates(
 /// only: with face contact the split edge lies outside, at least the margin off the obstacle, and
 /// snapping its midpoint to the closest surface (the far side of a bunny's ear under a large
 /// face) would fold the new faces around the obstacle.
-fn project_onto_surface(cloth: &mut Cloth, obstacles: &Obstacles, v: VertexId, length: Real) {
+fn project_onto_surface(
+    target: &mut ClothTarget,
+    obstacles: &Obstacles,
+    v: VertexId,
+    length: Real,
+) {
     if obstacles.face_contact() {
         return;
     }
-    let i = v.0 as usize;
-    if let Some(sp) = obstacles.closest_surface(cloth.x[i]) {
+    if let Some(sp) = obstacles.closest_surface(target.cloth.x[v.0 as usize]) {
         if sp.distance.abs() <= 0.5 * length {
-            cloth.x[i] = sp.point + sp.normal * obstacles.margin();
+            target.place(v, sp.point + sp.normal * obstacles.margin());
         }
     }
 }
