@@ -51,8 +51,25 @@ pub struct ErrorReport {
     /// RMS over frames and tracked points of the tracked points' distance (NaN without tracked
     /// points).
     pub tracked_err: f64,
-    /// Two-sided Hausdorff distance between the final surfaces (point-sampled).
+    /// Two-sided Hausdorff distance between the final surfaces (point-sampled); NaN when the
+    /// run's last frame is not at the reference's last time (an interrupted or diverged run:
+    /// surfaces at two different times are not compared).
     pub hausdorff: f64,
+}
+
+/// Whether the last frames of `run` and `reference` are at the same time, to half the
+/// reference's last frame interval (its whole duration when it has one frame).
+fn ends_together(run: &Trajectory, reference: &Trajectory) -> bool {
+    let (Some(&t_run), Some(&t_ref)) = (run.times.last(), reference.times.last()) else {
+        return false;
+    };
+    let n = reference.times.len();
+    let spacing = if n >= 2 {
+        t_ref - reference.times[n - 2]
+    } else {
+        t_ref.abs()
+    };
+    (t_run - t_ref).abs() <= 0.5 * spacing.max(1e-12)
 }
 
 fn dist(a: [f32; 3], b: [f64; 3]) -> f64 {
@@ -119,7 +136,11 @@ pub fn compare(run: &Trajectory, reference: &Trajectory) -> Result<ErrorReport, 
     } else {
         (tracked_sq / (tracked * run.frames()) as f64).sqrt()
     };
-    let hausdorff = surface_hausdorff(run, reference);
+    let hausdorff = if ends_together(run, reference) {
+        surface_hausdorff(run, reference)
+    } else {
+        f64::NAN
+    };
     Ok(ErrorReport {
         e_t,
         e_rms,
@@ -421,6 +442,18 @@ mod tests {
             "{}",
             r.hausdorff
         );
+    }
+
+    #[test]
+    fn a_run_ending_early_has_errors_but_no_final_surface_distance() {
+        // An interrupted run: its frames are compared at their times, but its last surface is
+        // not the reference's final one.
+        let reference = traj(8, 5, [0.0; 3], 1.0);
+        let early = traj(8, 3, [0.0; 3], 1.0);
+        let r = compare(&early, &reference).unwrap();
+        assert_eq!(r.e_rms, 0.0);
+        assert_eq!(r.e_t.len(), 3);
+        assert!(r.hausdorff.is_nan(), "{}", r.hausdorff);
     }
 
     #[test]
