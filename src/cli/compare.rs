@@ -163,20 +163,58 @@ pub fn study(args: StudyArgs) -> Result<(), CliError> {
 
 /// `study --references-only`: each scene's reference in the cache, nothing else.
 fn references(definition: &Study, plans: &[ScenePlan], e: &Execution) -> Result<(), CliError> {
-    let progress = study::pool::Progress::new(e.progress);
-    for plan in plans {
-        let r = reference::ensure_reference(
-            &plan.loaded,
-            &definition.reference,
-            &e.cache,
-            e.jobs,
-            e.force_reference,
-            Some(progress.multi()),
-            Some(interrupt_flag()),
-        )?;
+    for r in ensure_references(definition, plans, e)? {
         println!("{}", reference::describe(&r));
     }
     Ok(())
+}
+
+/// Every scene's reference and floor in the cache (computed when missing, or always with
+/// `--force-reference`), `e.jobs` scenes at a time, each scene's two runs side by side as well
+/// when `e.jobs >= 2`: a study's references before its runs, so that no core waits while one
+/// scene's reference runs alone. Scenes sharing a cache entry are computed once. In the plans'
+/// order.
+fn ensure_references(
+    definition: &Study,
+    plans: &[ScenePlan],
+    e: &Execution,
+) -> Result<Vec<reference::Reference>, CliError> {
+    let settings = &definition.reference;
+    let entries: Vec<PathBuf> = plans
+        .iter()
+        .map(|p| reference::entry_dir(&e.cache, &p.loaded, settings))
+        .collect();
+    let first: Vec<usize> = (0..plans.len())
+        .filter(|&i| !entries[..i].contains(&entries[i]))
+        .collect();
+    let progress = study::pool::Progress::new(e.progress);
+    let interrupt = interrupt_flag();
+    let ensure = |i: &usize, force: bool| {
+        reference::ensure_reference(
+            &plans[*i].loaded,
+            settings,
+            &e.cache,
+            e.jobs,
+            force,
+            Some(progress.multi()),
+            Some(interrupt.clone()),
+        )
+    };
+    study::pool::run_all(
+        &first,
+        e.jobs,
+        &progress,
+        |_| 0,
+        |&i| plans[i].loaded.scene.name.clone(),
+        |i, bar| {
+            bar.finish_and_clear(); // the runs show their own bars
+            ensure(i, e.force_reference)
+        },
+    )?;
+    // Now cached: read back in the plans' order.
+    (0..plans.len())
+        .map(|i| ensure(&i, false).map_err(CliError::from))
+        .collect()
 }
 
 /// How the runs of a study are executed (shared by `compare` and `study`).
@@ -210,7 +248,11 @@ fn run_plans(
     for plan in &plans {
         output_folder(&plan.out)?;
     }
+    if plans.len() > 1 {
+        ensure_references(definition, &plans, e)?;
+    }
     let interrupt = interrupt_flag();
+    let count_scenes = plans.len();
     let mut done = Vec::new();
     for ScenePlan {
         loaded,
@@ -234,7 +276,8 @@ fn run_plans(
             out_dir: out.clone(),
             reference: definition.reference.clone(),
             cache_dir: e.cache.clone(),
-            force_reference: e.force_reference,
+            // With several scenes every reference was just made (forced or not).
+            force_reference: e.force_reference && count_scenes == 1,
             progress: e.progress,
             interrupt: Some(interrupt.clone()),
         };

@@ -64,6 +64,45 @@ fn has_parallel() -> bool {
         .is_ok_and(|o| o.status.success())
 }
 
+/// A study of several scenes makes every reference before its runs, scenes side by side: each
+/// scene's comparison then reads its reference from the cache, even under `--force-reference`
+/// (so a forced reference is computed once, not twice).
+#[test]
+fn a_study_of_two_scenes_makes_each_reference_once_before_its_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let two = STUDY.replace(
+        r#"scenes = ["sphere"]"#,
+        r#"scenes = ["sphere", "hanging"]"#,
+    );
+    std::fs::write(d.join("two.toml"), two).unwrap();
+    let args = [
+        "study",
+        "two.toml",
+        "--cache",
+        "cache",
+        "--out",
+        "o",
+        "--quiet",
+        "--jobs",
+        "2",
+        "--force-reference",
+    ];
+    let text = adaptcloth(d, &args);
+    let read_back = text.lines().filter(|l| l.starts_with("reference "));
+    assert_eq!(
+        read_back.filter(|l| l.ends_with("(cached)")).count(),
+        2,
+        "{text}"
+    );
+    for scene in ["sphere", "hanging"] {
+        assert!(
+            d.join("o").join(scene).join("comparison.csv").is_file(),
+            "{scene}"
+        );
+    }
+}
+
 #[test]
 fn a_study_sharded_under_gnu_parallel_merges_into_the_single_run() {
     let dir = tempfile::tempdir().unwrap();
