@@ -148,9 +148,30 @@ pub fn energy_trial(
     let gain_at = |c: &Cloth, x: &[Vec3]| c.model.energies(x, &c.v).total() - before.total();
     let mut gain = gain_at(&sub, &sub.x);
     if gain > tolerance && !new.is_empty() {
-        relax(&mut sub, &new, RELAX_RESOLUTION * tolerance, |c, x| {
-            gain_at(c, x) <= tolerance
-        });
+        // Only the new vertices move: the gain falls by the elastic decrease and changes by
+        // their gravitational potential, `-m g . dx` each.
+        let start: Vec<(Real, Vec3)> = new
+            .iter()
+            .map(|v| (sub.model.mass()[v.0 as usize], sub.x[v.0 as usize]))
+            .collect();
+        let g = if switches.gravity {
+            switches.g
+        } else {
+            Vec3::zeros()
+        };
+        let gain_from = gain;
+        let gravity_change = |x: &[Vec3]| -> Real {
+            new.iter()
+                .zip(&start)
+                .map(|(v, &(m, x0))| -m * g.dot(&(x[v.0 as usize] - x0)))
+                .sum()
+        };
+        relax(
+            &mut sub,
+            &new,
+            RELAX_RESOLUTION * tolerance,
+            |x, decrease| gain_from - decrease + gravity_change(x) <= tolerance,
+        );
         gain = gain_at(&sub, &sub.x);
     }
     let touched = touched(&sub.mesh, &transfer.record);

@@ -29,13 +29,13 @@ const REGULARISATION: Real = 1e-3;
 /// and `H` the Gauss-Newton stiffness of the stretched springs over the moved vertices (N/m, dense:
 /// they are few), `s` halved until the energy falls. Stops when an iteration lowers the energy by
 /// at most `resolution` (J; 0 for the tightest stop) or a `1e-12` fraction of it, or as soon as
-/// `enough(cloth, x)` holds for the positions `x` an iteration reached (the cloth as it was before
-/// the call). Never raises the elastic energy. Returns its decrease (J).
+/// `enough(x, decrease)` holds for the positions `x` an iteration reached and the decrease of the
+/// elastic energy so far (J). Never raises the elastic energy. Returns its decrease (J).
 pub fn relax(
     cloth: &mut Cloth,
     vertices: &[VertexId],
     resolution: Real,
-    enough: impl Fn(&Cloth, &[Vec3]) -> bool,
+    enough: impl Fn(&[Vec3], Real) -> bool,
 ) -> Real {
     let inv = cloth.model.inv_mass();
     let mut movable: Vec<usize> = vertices
@@ -97,7 +97,7 @@ pub fn relax(
         }
         step = (2.0 * step).min(1.0);
         if decrease <= resolution.max(MIN_DECREASE * u.abs().max(Real::MIN_POSITIVE))
-            || enough(cloth, &x)
+            || enough(&x, start - u)
         {
             break;
         }
