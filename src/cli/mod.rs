@@ -14,6 +14,7 @@ mod suites;
 use crate::eval::reference::ReferenceError;
 use crate::report::ReportError;
 use crate::scene::SceneError;
+use crate::sim::RunStatus;
 use crate::study::StudyError;
 use args::Command;
 use std::io::IsTerminal;
@@ -68,6 +69,11 @@ impl From<ReferenceError> for CliError {
     fn from(e: ReferenceError) -> Self {
         match e {
             ReferenceError::Settings(_) => CliError::Input(e.to_string()),
+            // Stopped by a signal: the command was interrupted, nothing failed.
+            ReferenceError::RunFailed {
+                status: RunStatus::Interrupted,
+                ..
+            } => CliError::Interrupted(e.to_string()),
             _ => CliError::Failed(e.to_string()),
         }
     }

@@ -226,3 +226,40 @@ fn sigterm_and_sighup_stop_a_run_cleanly() {
         assert!(out.join("metrics.csv").is_file(), "{signal}");
     }
 }
+
+/// A study stopped while its reference runs exits as interrupted (130), not as failed.
+#[test]
+fn a_study_interrupted_during_its_reference_exits_130() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    // The quick study's reference, a 33x33 RK4 run of about 30 s.
+    let child = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .args(["study", "--references-only", "--quiet", "--cache"])
+        .arg(&cache)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("binary runs");
+    let started = std::time::Instant::now();
+    let metrics = |d: &std::path::Path| d.join("reference").join("metrics.csv.partial").exists();
+    while !std::fs::read_dir(&cache)
+        .ok()
+        .and_then(|mut entries| entries.next())
+        .and_then(|e| e.ok())
+        .is_some_and(|e| metrics(&e.path()))
+    {
+        assert!(
+            started.elapsed().as_secs() < 60,
+            "the reference did not start"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(sent.success());
+    let output = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&output.stderr);
+    assert_eq!(output.status.code(), Some(130), "{err}");
+    assert!(err.contains("interrupted"), "{err}");
+}
