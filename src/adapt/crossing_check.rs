@@ -85,9 +85,9 @@ impl CrossingGuard {
     /// Records an edit applied to `cloth`: its new faces are tested from now on.
     pub fn applied(&mut self, cloth: &Cloth, record: &EditRecord) {
         for &id in &record.added_faces {
+            self.added.all.push(id);
             self.added.insert(id, face_box(cloth, id));
         }
-        self.added.all.extend(&record.added_faces);
     }
 
     /// Records that vertex `v`, added by an edit since the guard was built, moved: the faces

@@ -172,8 +172,8 @@ fn references(definition: &Study, plans: &[ScenePlan], e: &Execution) -> Result<
 /// Every scene's reference and floor in the cache (computed when missing, or always with
 /// `--force-reference`), `e.jobs` scenes at a time, each scene's two runs side by side as well
 /// when `e.jobs >= 2`: a study's references before its runs, so that no core waits while one
-/// scene's reference runs alone. Scenes sharing a cache entry are computed once. In the plans'
-/// order.
+/// scene's reference runs alone. Scenes sharing a cache entry are computed once and returned
+/// once, in the plans' order.
 fn ensure_references(
     definition: &Study,
     plans: &[ScenePlan],
@@ -189,32 +189,25 @@ fn ensure_references(
         .collect();
     let progress = study::pool::Progress::new(e.progress);
     let interrupt = interrupt_flag();
-    let ensure = |i: &usize, force: bool| {
-        reference::ensure_reference(
-            &plans[*i].loaded,
-            settings,
-            &e.cache,
-            e.jobs,
-            force,
-            Some(progress.multi()),
-            Some(interrupt.clone()),
-        )
-    };
-    study::pool::run_all(
+    Ok(study::pool::run_all(
         &first,
         e.jobs,
         &progress,
         |_| 0,
         |&i| plans[i].loaded.scene.name.clone(),
-        |i, bar| {
+        |&i, bar| {
             bar.finish_and_clear(); // the runs show their own bars
-            ensure(i, e.force_reference)
+            reference::ensure_reference(
+                &plans[i].loaded,
+                settings,
+                &e.cache,
+                e.jobs,
+                e.force_reference,
+                Some(progress.multi()),
+                Some(interrupt.clone()),
+            )
         },
-    )?;
-    // Now cached: read back in the plans' order.
-    (0..plans.len())
-        .map(|i| ensure(&i, false).map_err(CliError::from))
-        .collect()
+    )?)
 }
 
 /// How the runs of a study are executed (shared by `compare` and `study`).
