@@ -17,6 +17,7 @@ use super::transfer::{apply_checked_edit_with, restore_kinetic_energy, Transfer,
 use crate::cloth::Cloth;
 use crate::math::{Real, Vec3};
 use crate::mesh::{Edit, EditError, EditRecord, Mesh, Origin, Patch, VertexId, VertexRef};
+use std::cell::Cell;
 use std::collections::BTreeSet;
 
 /// Rounding allowance of the law, relative to the patch's energy magnitude (dimensionless).
@@ -30,6 +31,13 @@ const ALLOWANCE_HEIGHT: Real = 1e-9;
 /// law's allowance (dimensionless): what is left cannot move a gain across the allowance by more
 /// than a rounding's worth.
 const RELAX_RESOLUTION: Real = 1e-3;
+
+/// The relaxation of an edit whose gain stays above the allowance (one to pay for, or to
+/// refuse) stops once an iteration lowers the gain by less than this fraction of it
+/// (dimensionless): converging further would change the payment by about that fraction, while
+/// such relaxations took 19-30 iterations where those within the allowance took 2
+/// (docs/model-notes.md, "Energy of a re-meshing").
+const GAIN_RESOLUTION: Real = 1e-3;
 
 /// A gain is payable only up to this fraction of the relative kinetic energy, so rounding
 /// differences between the patch and the cloth cannot make the payment fail (dimensionless).
@@ -91,8 +99,9 @@ pub enum ConservingError {
 /// response, not the edit), then the new vertices relaxed ([`relax`], to a resolution of
 /// `1e-3` of the allowance) unless the gain at their interpolated positions is already within the
 /// allowance (then they stay there: the edit needs no payment). The relaxation stops at the first
-/// iteration that brings the gain within the allowance: relaxing further would take energy out
-/// of the cloth that the law does not ask for. The cloth is not changed.
+/// iteration that brings the gain within the allowance (relaxing further would take energy out
+/// of the cloth that the law does not ask for), or that lowers it by less than `1e-3` of itself
+/// (the gain left is the one to pay, or to refuse). The cloth is not changed.
 pub fn energy_trial(
     cloth: &Cloth,
     edit: &Edit,
@@ -166,11 +175,16 @@ pub fn energy_trial(
                 .map(|(v, &(m, x0))| -m * g.dot(&(x[v.0 as usize] - x0)))
                 .sum()
         };
+        let previous = Cell::new(0.0);
         relax(
             &mut sub,
             &new,
             RELAX_RESOLUTION * tolerance,
-            |x, decrease| gain_from - decrease + gravity_change(x) <= tolerance,
+            |x, decrease| {
+                let gain = gain_from - decrease + gravity_change(x);
+                let lowered = decrease - previous.replace(decrease);
+                gain <= tolerance || lowered <= GAIN_RESOLUTION * gain
+            },
         );
         gain = gain_at(&sub, &sub.x);
     }

@@ -52,10 +52,7 @@ pub fn relax(
     let still = vec![Vec3::zeros(); n];
     // Only the elements at the moved vertices change: relax over them alone.
     let model = &cloth.model.around(&movable);
-    let potential = |x: &[Vec3]| {
-        let e = model.energies(x, &still);
-        e.stretch + e.bending
-    };
+    let potential = |x: &[Vec3]| model.stretch_energy(x) + model.bending_energy(x);
     let start = potential(&cloth.x);
     let mut u = start;
     let mut force = vec![Vec3::zeros(); n];
