@@ -25,21 +25,24 @@ impl Mesh {
     /// conforming. Every vertex of `core` has all its faces in the patch (its mass, springs and
     /// bending elements are those of the mesh).
     pub fn patch(&self, core: &BTreeSet<VertexId>) -> Patch {
-        let mut faces: BTreeSet<FaceId> = core
+        // Sorted vectors: a patch is a few dozen faces, built for every trial of an edit.
+        let mut faces: Vec<FaceId> = core
             .iter()
             .flat_map(|&v| self.vertex_faces(v).iter().copied())
             .collect();
-        let mut complete: BTreeSet<VertexId> = core.clone();
+        faces.sort_unstable();
+        faces.dedup();
+        let mut complete: Vec<VertexId> = core.iter().copied().collect();
         loop {
-            let vertices: BTreeSet<VertexId> = faces.iter().flat_map(|&f| self.face(f)).collect();
+            let vertices = sorted_vertices(self, &faces);
             let split: Vec<VertexId> = vertices
                 .into_iter()
-                .filter(|v| !complete.contains(v))
+                .filter(|v| complete.binary_search(v).is_err())
                 .filter(|&v| {
                     let wedges: Vec<(VertexId, VertexId)> = self
                         .vertex_faces(v)
                         .iter()
-                        .filter(|f| faces.contains(f))
+                        .filter(|f| faces.binary_search(f).is_ok())
                         .map(|&f| wedge(self.face(f), v))
                         .collect();
                     single_fan(&wedges).is_err()
@@ -48,10 +51,13 @@ impl Mesh {
             if split.is_empty() {
                 break;
             }
-            for v in split {
+            for &v in &split {
                 faces.extend(self.vertex_faces(v).iter().copied());
-                complete.insert(v);
             }
+            faces.sort_unstable();
+            faces.dedup();
+            complete.extend(split);
+            complete.sort_unstable();
         }
         let mut out = Patch {
             mesh: Mesh::default(),
@@ -59,20 +65,38 @@ impl Mesh {
             vertex_map: BTreeMap::new(),
             face_map: BTreeMap::new(),
         };
-        let used: BTreeSet<VertexId> = faces.iter().flat_map(|&f| self.face(f)).collect();
+        let used = sorted_vertices(self, &faces);
+        let mut vertex_map = Vec::with_capacity(used.len());
         for v in used {
             let local = out.mesh.push_vertex(self.rest(v));
             out.mesh.pinned[local.0 as usize] = self.is_pinned(v);
             out.vertices.push(v);
-            out.vertex_map.insert(v, local);
+            vertex_map.push((v, local));
         }
+        let local = |v: VertexId| {
+            let k = vertex_map
+                .binary_search_by_key(&v, |&(original, _)| original)
+                .expect("a face's vertices are in the patch");
+            vertex_map[k].1
+        };
+        let mut face_map = Vec::with_capacity(faces.len());
         for f in faces {
-            let local = out.mesh.push_face(self.face(f).map(|v| out.vertex_map[&v]));
-            out.face_map.insert(f, local);
+            let vs = self.face(f).map(local);
+            face_map.push((f, out.mesh.push_face(vs)));
         }
+        out.vertex_map = vertex_map.into_iter().collect();
+        out.face_map = face_map.into_iter().collect();
         out.mesh.pattern_area = out.mesh.faces().map(|f| out.mesh.face_rest_area(f)).sum();
         out
     }
+}
+
+/// The vertices of `faces`, sorted, each once.
+fn sorted_vertices(mesh: &Mesh, faces: &[FaceId]) -> Vec<VertexId> {
+    let mut vertices: Vec<VertexId> = faces.iter().flat_map(|&f| mesh.face(f)).collect();
+    vertices.sort_unstable();
+    vertices.dedup();
+    vertices
 }
 
 /// The wedge `x -> y` of face `vs` around its vertex `v`.
