@@ -3,7 +3,7 @@
 //! creates a crossing the step's swept test could never undo (it assumes a start free of them).
 
 use crate::cloth::Cloth;
-use crate::collision::{segment_crosses_triangle, FaceGrid};
+use crate::collision::{bounds, segment_crosses_triangle, FaceGrid};
 use crate::math::{Real, Vec3};
 use crate::mesh::{Edit, EditRecord, FaceId, VertexId, VertexRef};
 use std::collections::HashMap;
@@ -27,7 +27,7 @@ pub fn edit_crosses(cloth: &Cloth, edit: &Edit, new_positions: &[Vec3]) -> bool 
     shape.new_pairs_cross()
         || mesh.faces().any(|id| {
             let f = mesh.face(id).map(|v| v.0 as usize);
-            shape.kept_face_crosses(id, f, &bounds(f.map(|k| cloth.x[k])))
+            shape.kept_face_crosses(id, f, &bounds(&f.map(|k| cloth.x[k])))
         })
 }
 
@@ -210,7 +210,7 @@ fn for_each_cell(lo: [i64; 3], hi: [i64; 3], mut f: impl FnMut([i64; 3])) {
 
 /// The box of the cloth's face `id` (m).
 fn face_box(cloth: &Cloth, id: FaceId) -> Bounds {
-    bounds(cloth.mesh.face(id).map(|v| cloth.x[v.0 as usize]))
+    bounds(&cloth.mesh.face(id).map(|v| cloth.x[v.0 as usize]))
 }
 
 /// An edit's new faces and edges, at the positions they would take, with their boxes.
@@ -248,8 +248,8 @@ impl<'a> EditShape<'a> {
         Some(EditShape {
             cloth,
             new_positions,
-            face_boxes: new_faces.iter().map(|f| bounds(f.map(at))).collect(),
-            edge_boxes: new_edges.iter().map(|e| bounds(e.map(at))).collect(),
+            face_boxes: new_faces.iter().map(|f| bounds(&f.map(at))).collect(),
+            edge_boxes: new_edges.iter().map(|e| bounds(&e.map(at))).collect(),
             new_faces,
             new_edges,
             region,
@@ -304,7 +304,7 @@ impl<'a> EditShape<'a> {
             && (self.new_edges_cross(f, face_box)
                 || (0..3).any(|i| {
                     let edge = sorted(f[i], f[(i + 1) % 3]);
-                    let edge_box = bounds(edge.map(|k| self.at(k)));
+                    let edge_box = bounds(&edge.map(|k| self.at(k)));
                     self.new_faces
                         .iter()
                         .zip(&self.face_boxes)
@@ -315,15 +315,6 @@ impl<'a> EditShape<'a> {
 
 /// A box: its lowest and highest corners (m).
 type Bounds = (Vec3, Vec3);
-
-/// The smallest box holding `points` (m).
-fn bounds<const N: usize>(points: [Vec3; N]) -> Bounds {
-    let mut b = (points[0], points[0]);
-    for p in &points[1..] {
-        b = (b.0.inf(p), b.1.sup(p));
-    }
-    b
-}
 
 /// Whether two boxes meet (touching included).
 fn overlap(a: &Bounds, b: &Bounds) -> bool {

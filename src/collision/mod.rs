@@ -45,7 +45,7 @@ mod tests;
 
 pub use crossings::{segment_crosses_triangle, self_intersections};
 pub use error::CollisionError;
-pub(crate) use face_grid::FaceGrid;
+pub(crate) use face_grid::{bounds, FaceGrid};
 pub use faces::{FaceContactStats, FaceScratch};
 pub use motion::ObstacleMotion;
 pub use params::{ContactParams, Obstacle, ObstacleShape};
