@@ -74,6 +74,10 @@ pub enum Command {
         /// unless --out says so).
         #[arg(long)]
         quick: bool,
+        /// Only this strategy (the step bisection and the hard cases on it); the report then
+        /// goes to out/stability[-quick]-STRATEGY.md unless --out says so.
+        #[arg(long)]
+        strategy: Option<String>,
     },
     /// Render one OBJ frame (cloth, edges visible) to a PNG, with a scene's obstacles if given.
     Render(RenderArgs),

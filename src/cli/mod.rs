@@ -98,7 +98,11 @@ pub fn execute(command: Command) -> Result<(), CliError> {
         Command::Merge(a) => compare::merge(a),
         Command::Report(a) => compare::report(a),
         Command::Integrators { write_docs, docs } => suites::integrators(write_docs, &docs),
-        Command::Stability { out, quick } => suites::stability(out.as_deref(), quick),
+        Command::Stability {
+            out,
+            quick,
+            strategy,
+        } => suites::stability(out.as_deref(), quick, strategy.as_deref()),
     }
 }
 

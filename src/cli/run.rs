@@ -68,13 +68,14 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
 
 /// `adaptcloth scenes`: the embedded scenes with their descriptions.
 pub fn scenes() -> Result<(), CliError> {
+    let width = EMBEDDED_SCENES.iter().map(|(name, _)| name.len()).max();
     for (name, text) in EMBEDDED_SCENES {
         let description = text
             .lines()
             .find_map(|l| l.strip_prefix("description = "))
             .unwrap_or("")
             .trim_matches('"');
-        println!("{name:12} {description}");
+        println!("{name:width$}  {description}", width = width.unwrap_or(0));
     }
     Ok(())
 }

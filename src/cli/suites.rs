@@ -2,9 +2,10 @@
 //! `docs/stability.md`.
 
 use super::{check_report_path, read_input, write_report_file, CliError};
+use crate::strategies::{strategy_named, strategy_names};
 use crate::study::integrators;
 use crate::study::stability::{self, CaseSizes, Search, REPORT_SEARCH};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// `adaptcloth integrators`: seed 004's tables and the convergence orders, optionally written
 /// into `docs` between its markers.
@@ -28,9 +29,10 @@ pub fn integrators(write_docs: bool, docs: &Path) -> Result<(), CliError> {
 
 /// `adaptcloth stability`: the stability suite, its report written to `out` (default
 /// `docs/stability.md`, or `out/stability-quick.md` with `quick`, so a quick look never replaces
-/// the report in `docs/`). An unwritable `out` is refused (exit 2) before anything runs. Fails
-/// (exit 1) when a hard case failed, after writing the report.
-pub fn stability(out: Option<&Path>, quick: bool) -> Result<(), CliError> {
+/// the report in `docs/`); with `strategy`, that strategy alone, reported by default to
+/// `out/stability[-quick]-STRATEGY.md`. An unknown strategy or an unwritable `out` is refused
+/// (exit 2) before anything runs. Fails (exit 1) when a hard case failed, after writing the report.
+pub fn stability(out: Option<&Path>, quick: bool, strategy: Option<&str>) -> Result<(), CliError> {
     let (search, sizes) = if quick {
         let search = Search {
             resolution: 5,
@@ -42,13 +44,25 @@ pub fn stability(out: Option<&Path>, quick: bool) -> Result<(), CliError> {
     } else {
         (REPORT_SEARCH, CaseSizes::REPORT)
     };
-    let out = out.unwrap_or(Path::new(if quick {
-        "out/stability-quick.md"
-    } else {
-        "docs/stability.md"
-    }));
+    let strategies = match strategy {
+        Some(name) => vec![
+            strategy_named(name)
+                .map_err(|e| CliError::Input(format!("--strategy {name}: {e}")))?
+                .name,
+        ],
+        None => strategy_names().to_vec(),
+    };
+    let default_out = match (strategy, quick) {
+        (None, false) => PathBuf::from("docs/stability.md"),
+        (None, true) => PathBuf::from("out/stability-quick.md"),
+        (Some(s), false) => PathBuf::from(format!("out/stability-{s}.md")),
+        (Some(s), true) => PathBuf::from(format!("out/stability-quick-{s}.md")),
+    };
+    let out = out.unwrap_or(&default_out);
     check_report_path(out)?;
-    let suite = stability::report(&search, &sizes, |s| eprintln!("adaptcloth stability: {s}"));
+    let suite = stability::report(&search, &sizes, &strategies, |s| {
+        eprintln!("adaptcloth stability: {s}")
+    });
     write_report_file(out, &suite.markdown)?;
     if suite.failed > 0 {
         return Err(CliError::Failed(format!(

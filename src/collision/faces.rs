@@ -97,9 +97,8 @@ impl Solid {
     }
 
     /// Whether the triangle surely has no contact closer than `band` (m) other than at its
-    /// vertices: its three vertices in one flat region ([`Solid::flat_region`]), or, for a mesh,
-    /// one vertex farther from the surface than `band` plus its longest edge (the signed
-    /// distance is 1-Lipschitz; the grid's lower bound answers without a query).
+    /// vertices: its three vertices in one flat region ([`Solid::flat_region`]), or the whole
+    /// triangle clear ([`Solid::hull_clear`]).
     fn triangle_clear(&self, tri: [Vector; 3], band: Real) -> bool {
         if let Some(region) = self.flat_region(tri[0]) {
             if tri[1..]
@@ -109,25 +108,35 @@ impl Solid {
                 return true;
             }
         }
-        if let Geometry::Cylinder(s) = self.geometry() {
-            // The solid lies inside its infinite cylinder: the triangle is at least its distance
-            // from the axis, across the plane of the caps, minus the radius away.
-            let across = tri.map(|p| {
-                let local = self.pose().inverse_transform_point(p);
-                [local.x, local.z]
-            });
-            return distance_to_origin_2d(across).0 - s.radius >= band;
+        self.hull_clear(tri, band)
+    }
+
+    /// Whether every point of the triangle `tri` (world, m; a segment when two vertices
+    /// coincide) is surely farther than `band` (m) from the solid, its vertices included: for a
+    /// cylinder, the triangle's distance from the axis across the plane of the caps exceeds the
+    /// radius by `band` (the solid lies inside its infinite cylinder); for a mesh, one vertex is
+    /// farther than `band` plus its longest edge (the signed distance is 1-Lipschitz; the grid's
+    /// lower bound answers without a query). `false` when unsure.
+    fn hull_clear(&self, tri: [Vector; 3], band: Real) -> bool {
+        match self.geometry() {
+            Geometry::Cylinder(s) => {
+                let across = tri.map(|p| {
+                    let local = self.pose().inverse_transform_point(p);
+                    [local.x, local.z]
+                });
+                distance_to_origin_2d(across).0 - s.radius >= band
+            }
+            Geometry::Mesh(_) => {
+                let (a, b, c) = (
+                    (tri[1] - tri[0]).length(),
+                    (tri[2] - tri[1]).length(),
+                    (tri[0] - tri[2]).length(),
+                );
+                let reach = [a.max(c), a.max(b), b.max(c)];
+                (0..3).any(|k| self.surely_clear(tri[k], band + reach[k]))
+            }
+            _ => false,
         }
-        if matches!(self.geometry(), Geometry::Mesh(_)) {
-            let (a, b, c) = (
-                (tri[1] - tri[0]).length(),
-                (tri[2] - tri[1]).length(),
-                (tri[0] - tri[2]).length(),
-            );
-            let reach = [a.max(c), a.max(b), b.max(c)];
-            return (0..3).any(|k| self.surely_clear(tri[k], band + reach[k]));
-        }
-        false
     }
 
     /// The deepest (or closest) contact of this obstacle with the triangle `tri` (world, m), when
@@ -420,7 +429,8 @@ fn inside_triangle(r: Vector, tri: [Vector; 3], n: Vector) -> bool {
 
 impl Obstacles {
     /// The obstacle closest to the segment `a -> b` (m) among those nearer than `band` (m), by
-    /// parry's contact between the segment and the obstacle; the point and outward normal are the
+    /// parry's contact between the segment and the obstacle (skipped where the obstacle's box or
+    /// [`Solid::hull_clear`] says the segment is clear); the point and outward normal are the
     /// obstacle's projection of the segment's closest point.
     pub(super) fn edge_touch(&self, a: Vec3, b: Vec3, band: Real) -> Option<super::EdgeHit> {
         let (p, q) = (to_glam(a), to_glam(b));
@@ -428,7 +438,7 @@ impl Obstacles {
         let (lo, hi) = (p.min(q), p.max(q));
         let mut best: Option<(Real, super::EdgeHit)> = None;
         for (k, ob) in self.obstacles.iter().enumerate() {
-            if !ob.overlaps(lo, hi, band) {
+            if !ob.overlaps(lo, hi, band) || ob.hull_clear([p, q, q], band) {
                 continue;
             }
             let Ok(Some(c)) = parry3d_f64::query::contact(

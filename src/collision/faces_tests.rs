@@ -129,6 +129,58 @@ fn the_cylinder_cull_hides_no_contact() {
     );
 }
 
+/// The criteria's edge query skips a cylinder only where the segment is surely clear of it: a
+/// skipped segment has no contact closer than the band, at its ends included. (A mesh's branch
+/// is the faces' cull, by the distance grid's lower bound.)
+#[test]
+fn the_segment_cull_hides_no_contact() {
+    // The shape with the half-width of the box its segments are drawn in, about its centre.
+    let shapes = [(
+        ObstacleShape::Cylinder {
+            center: [0.0, 0.0, 0.25],
+            radius: 0.3,
+            height: 0.5,
+        },
+        Vector::new(0.0, 0.0, 0.25),
+        0.5,
+    )];
+    let mut seed = 4242_u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as Real / (1u64 << 53) as Real
+    };
+    for (shape, middle, half) in shapes {
+        let obs = obstacles(shape);
+        let solid = &obs.obstacles[0];
+        let (mut culled, mut kept) = (0, 0);
+        for _ in 0..4000 {
+            let centre =
+                middle + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * 2.0 * half;
+            let size = (0.01 + 0.3 * next()) * half;
+            let p = centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
+            let q = centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
+            let band = 0.004 + 0.05 * next();
+            if solid.hull_clear([p, q, q], band) {
+                culled += 1;
+                let c = parry3d_f64::query::contact(
+                    &Pose::identity(),
+                    &Segment::new(p, q),
+                    solid.pose(),
+                    solid.shape(),
+                    band,
+                )
+                .unwrap();
+                assert!(c.is_none_or(|c| c.dist >= band - 1e-9), "{p} {q}: {c:?}");
+            } else {
+                kept += 1;
+            }
+        }
+        assert!(culled > 300 && kept > 300, "{culled} culled, {kept} kept");
+    }
+}
+
 /// A wide face through a frictionless sphere, its centroid over the centre: the pass lifts
 /// the contact point to the margin in one move, removes its inward velocity and changes the
 /// momentum only along the normal. With a vertex pinned, that vertex never moves and the

@@ -10,6 +10,25 @@ use super::validate::Checker;
 use super::{MotionSpec, ObstacleShape, ObstacleSpec, SceneError};
 use serde::Deserialize;
 
+/// A parser message with Rust's type names in plain words (`expected f64` becomes `expected a
+/// number`), for people who write TOML, not Rust.
+pub fn plain_types(message: &str) -> String {
+    const PLAIN: [(&str, &str); 9] = [
+        ("expected a sequence", "expected a list [...]"),
+        ("expected f64", "expected a number"),
+        ("expected f32", "expected a number"),
+        ("expected usize", "expected a whole number, 0 or more"),
+        ("expected u64", "expected a whole number, 0 or more"),
+        ("expected u32", "expected a whole number, 0 or more"),
+        ("expected i64", "expected a whole number"),
+        ("expected i32", "expected a whole number"),
+        ("expected a boolean", "expected true or false"),
+    ];
+    PLAIN.iter().fold(message.to_string(), |m, (rust, plain)| {
+        m.replace(rust, plain)
+    })
+}
+
 /// A valid obstacle of each kind: their serialized keys are the keys each kind accepts.
 fn templates() -> [ObstacleShape; 5] {
     [
@@ -142,9 +161,9 @@ fn explain_table(
         let mut probe = template.clone();
         probe.insert(k.clone(), v.clone());
         if let Err(e) = parse(toml::Value::Table(probe)) {
-            return c.fail(&key(k), v, e.message().trim());
+            return c.fail(&key(k), v, &plain_types(e.message().trim()));
         }
     }
     let kind = kind.map_or(String::new(), |k| k.to_string());
-    c.fail(&key("kind"), kind, error.message().trim())
+    c.fail(&key("kind"), kind, &plain_types(error.message().trim()))
 }

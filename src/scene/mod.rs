@@ -13,6 +13,7 @@ mod motion;
 mod spec;
 mod validate;
 
+pub use diagnose::plain_types;
 pub use spec::*;
 pub use validate::MAX_STEPS;
 
@@ -344,7 +345,7 @@ fn from_text_with(
             .and_then(|t| diagnose::obstacle_error(&t, &checker))
             .unwrap_or_else(|| SceneError::Parse {
                 path: source.to_string(),
-                message: e.to_string().trim_end().to_string(),
+                message: plain_types(e.to_string().trim_end()),
             })
     })?;
     let mut scene = apply_settings(scene, &overrides.set, &checker)?;
@@ -420,14 +421,14 @@ fn apply_settings(
             return Err(
                 diagnose::obstacle_error(&table, checker).unwrap_or_else(|| SceneError::Parse {
                     path: setting.place(),
-                    message: e.to_string().trim_end().replace('\n', " "),
+                    message: plain_types(&e.to_string().trim_end().replace('\n', " ")),
                 }),
             );
         }
     }
     Scene::deserialize(toml::Value::Table(table)).map_err(|e| SceneError::Parse {
         path: checker.source.to_string(),
-        message: e.to_string().trim_end().to_string(),
+        message: plain_types(e.to_string().trim_end()),
     })
 }
 

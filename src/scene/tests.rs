@@ -442,7 +442,7 @@ fn bad_motions_are_rejected_with_key_line_and_expectation() {
             "kind = \"spin\"\nangular_velocity = \"fast\"\n",
             "obstacles.0.motion.angular_velocity",
             ":7",
-            "f64",
+            "expected a number",
         ),
         (
             "kind = \"linear\"\n",

@@ -33,7 +33,7 @@ use super::config::RunConfig;
 use super::StudyError;
 use crate::eval::reference::ReferenceSettings;
 use crate::physics::integrator_named;
-use crate::scene::{LoadedScene, Setting};
+use crate::scene::{plain_types, LoadedScene, Setting};
 use crate::strategies::strategy_names;
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -219,6 +219,25 @@ pub fn load_study(path: &Path) -> Result<Study, StudyError> {
     parse_study(&text, &path.display().to_string(), &stem, &dir)
 }
 
+/// The expected form of the top-level key written at byte `at` of `text` (as `key = ...`,
+/// `[key]` or `[[key]]`), for a parser error there that names only types.
+fn form_of_key_at(text: &str, at: usize) -> Option<&'static str> {
+    let line = text.get(at..)?.lines().next()?;
+    let key = line
+        .trim_start_matches('[')
+        .split(['=', ']', '.', ' '])
+        .next()?
+        .trim();
+    Some(match key {
+        "scenes" => "`scenes` is a list of embedded scene names or scene files: scenes = [\"sphere\", \"my_scene.toml\"]",
+        "runs" => "`runs` are tables, one per run: [[runs]] then strategy = \"bisect48\", ...",
+        "reference" => "`reference` is one table: [reference] then resolution = 65, ...",
+        "set" => "`set` is a table of scene keys: set = { \"time.frame_rate\" = 30 }",
+        "duration" => "`duration` is the simulated time of every run in seconds: duration = 0.6",
+        _ => return None,
+    })
+}
+
 /// Parses study text; `source` names it in errors, `default_name` is used when it has no name,
 /// `dir` is the folder scene paths are relative to.
 pub fn parse_study(
@@ -228,8 +247,14 @@ pub fn parse_study(
     dir: &Path,
 ) -> Result<Study, StudyError> {
     let err = Errors { text, source };
-    let file: StudyToml = toml::from_str(text)
-        .map_err(|e| StudyError::Config(format!("{source}: {}", e.to_string().trim_end())))?;
+    let file: StudyToml = toml::from_str(text).map_err(|e| {
+        let hint = e.span().and_then(|span| form_of_key_at(text, span.start));
+        let message = plain_types(e.to_string().trim_end());
+        StudyError::Config(match hint {
+            Some(form) => format!("{source}: {message}\n{form}"),
+            None => format!("{source}: {message}"),
+        })
+    })?;
     if file.scenes.is_empty() {
         return Err(StudyError::Config(format!(
             "{source}: `scenes` is empty: name at least one scene"
@@ -603,6 +628,10 @@ sweep = { "adaptivity.l_min" = [0.08, 0.04], "adaptivity.max_depth" = [2, 3] }
             ("scenes = [\"sphere\"]\n", "s.toml", "runs"),
             ("scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\n[[runs]]\nstrategy = \"static\"\n", "s.toml", "same label"),
             ("scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\ncolour = 1\n", "s.toml", "unknown field `colour`"),
+            // A wrong form of a top-level key gets its expected form, not only Rust's types.
+            ("[[scenes]]\nname = \"sphere\"\n[[runs]]\nstrategy = \"static\"\n", "s.toml", "`scenes` is a list of embedded scene names"),
+            ("scenes = \"sphere\"\n[[runs]]\nstrategy = \"static\"\n", "s.toml", "expected a list [...]"),
+            ("scenes = [\"sphere\"]\nduration = \"long\"\n[[runs]]\nstrategy = \"static\"\n", "s.toml", "expected a number"),
         ];
         for (text, place, expected) in cases {
             let m = message(text);

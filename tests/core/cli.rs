@@ -541,7 +541,7 @@ fn errors_name_the_key_and_its_own_line() {
     let cases = [
         (
             format!("{sphere}center = [0.0, 0.0, 0.0]\nradius = \"big\"\n"),
-            ":7: obstacles.0.radius = \"big\": invalid type: string \"big\", expected f64",
+            ":7: obstacles.0.radius = \"big\": invalid type: string \"big\", expected a number",
         ),
         (
             format!("{sphere}center = [0.0, 0.0, 0.0]\nradius = 1.0\nfoo = 2\n"),
@@ -630,18 +630,27 @@ fn stability_refuses_an_unwritable_report_before_running() {
 #[test]
 fn stability_quick_writes_outside_docs_and_its_exit_status_says_whether_a_case_failed() {
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
-        .args(["stability", "--quick"])
-        .current_dir(dir.path())
-        .output()
-        .expect("binary runs");
-    let report = dir.path().join("out/stability-quick.md");
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+            .args(args)
+            .current_dir(dir.path())
+            .output()
+            .expect("binary runs")
+    };
+    // An unknown strategy is refused before anything runs.
+    let refused = run(&["stability", "--quick", "--strategy", "magic"]);
+    assert_eq!(refused.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&refused.stderr).contains("bisect48"));
+    // One strategy (the whole quick suite is tests/stability.rs's work).
+    let out = run(&["stability", "--quick", "--strategy", "static"]);
+    let report = dir.path().join("out/stability-quick-static.md");
     assert!(report.is_file(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(
         !dir.path().join("docs").exists(),
         "--quick wrote into docs/"
     );
     let text = std::fs::read_to_string(report).unwrap();
+    assert!(text.contains("Strategies: static."), "{text}");
     // The report ends with "N case(s) failed. Suite wall time ...".
     let failed: usize = text
         .lines()
