@@ -95,6 +95,18 @@ pub fn lifted(mesh: &Mesh) -> Vec<Vec3> {
     x
 }
 
+/// A reproducible sequence of numbers uniform in [0, 1) from `seed` (a 64-bit linear
+/// congruential generator, top 53 bits): cheap random input for geometry tests.
+pub fn uniform(seed: u64) -> impl FnMut() -> Real {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as Real / (1u64 << 53) as Real
+    }
+}
+
 /// A randomly deformed state of `mesh`: rest positions plus noise of size `amp` (m), random
 /// velocities in [-1, 1] m/s.
 pub fn random_state(mesh: &Mesh, seed: u64, amp: Real) -> (Vec<Vec3>, Vec<Vec3>) {

@@ -79,13 +79,7 @@ fn the_cylinder_cull_hides_no_contact() {
     let Geometry::Cylinder(shape) = solid.geometry() else {
         unreachable!()
     };
-    let mut seed = 12345_u64;
-    let mut next = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as Real / (1u64 << 53) as Real
-    };
+    let mut next = crate::testing::uniform(12345);
     let (mut culled, mut kept, mut closed_form) = (0, 0, 0);
     for _ in 0..4000 {
         let centre = Vector::new(0.7 * next() - 0.35, 0.7 * next() - 0.35, 0.7 * next());
@@ -144,13 +138,7 @@ fn the_segment_cull_hides_no_contact() {
         Vector::new(0.0, 0.0, 0.25),
         0.5,
     )];
-    let mut seed = 4242_u64;
-    let mut next = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as Real / (1u64 << 53) as Real
-    };
+    let mut next = crate::testing::uniform(4242);
     for (shape, middle, half) in shapes {
         let obs = obstacles(shape);
         let solid = &obs.obstacles[0];

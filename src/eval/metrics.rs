@@ -508,13 +508,7 @@ mod tests {
 
     #[test]
     fn hausdorff_grid_matches_brute_force() {
-        let mut seed = 12345u64;
-        let mut rnd = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rnd = crate::testing::uniform(12345);
         let a: Vec<[f64; 3]> = (0..300).map(|_| [rnd(), rnd(), 0.1 * rnd()]).collect();
         let b: Vec<[f64; 3]> = (0..200).map(|_| [rnd() * 2.0, rnd(), rnd()]).collect();
         let brute = |x: &[[f64; 3]], y: &[[f64; 3]]| {

@@ -140,13 +140,7 @@ mod tests {
     #[test]
     fn finds_every_point_near_a_segment() {
         let mut points = Vec::new();
-        let mut s = 12345u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 11) as Real / (1u64 << 53) as Real
-        };
+        let mut next = crate::testing::uniform(12345);
         for i in 0..2000 {
             points.push((Vec2::new(next(), next() * 0.01), i));
         }
