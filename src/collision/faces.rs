@@ -358,7 +358,9 @@ fn distance_to_origin_2d(tri: [[Real; 2]; 3]) -> (Real, Option<(usize, Real)>) {
     if sides.iter().all(|&c| c > 0.0) || sides.iter().all(|&c| c < 0.0) {
         return (0.0, None);
     }
-    let mut best = (Real::INFINITY, None);
+    // Edges compared by squared distance; the one square root (`hypot`) for the closest.
+    let mut best: Option<(Real, usize, Real, [Real; 2])> = None;
+    // (A NaN distance never wins, as a NaN fails every comparison.)
     for k in 0..3 {
         let (a, b) = (tri[k], tri[(k + 1) % 3]);
         let ab = [b[0] - a[0], b[1] - a[1]];
@@ -368,12 +370,16 @@ fn distance_to_origin_2d(tri: [[Real; 2]; 3]) -> (Real, Option<(usize, Real)>) {
         } else {
             0.0
         };
-        let d = (a[0] + t * ab[0]).hypot(a[1] + t * ab[1]);
-        if d < best.0 {
-            best = (d, Some((k, t)));
+        let q = [a[0] + t * ab[0], a[1] + t * ab[1]];
+        let d2 = q[0] * q[0] + q[1] * q[1];
+        if d2 < best.map_or(Real::INFINITY, |(b2, ..)| b2) {
+            best = Some((d2, k, t, q));
         }
     }
-    best
+    match best {
+        Some((_, k, t, q)) => (q[0].hypot(q[1]), Some((k, t))),
+        None => (Real::INFINITY, None),
+    }
 }
 
 /// The contact of a triangle (local frame of the cylinder, axis y) with the cylinder's side in
