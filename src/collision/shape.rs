@@ -480,6 +480,9 @@ impl Solid {
     }
 }
 
+/// The smallest size (m) of an obstacle mesh, its bounding box's longest side once scaled.
+const MIN_MESH_SIZE: Real = 1e-6;
+
 /// The triangle mesh of obstacle `index` read from `file`, scaled then translated (m).
 fn mesh_geometry(
     index: usize,
@@ -499,11 +502,30 @@ fn mesh_geometry(
             ),
         });
     }
-    let vertices = obj
+    let vertices: Vec<Vector> = obj
         .positions
         .iter()
         .map(|&[x, y, z]| Vector::new(x, y, z) * scale + translation)
         .collect();
+    // parry's tree over the triangles recurses without end on a mesh of subnormal size.
+    let (lo, hi) = vertices.iter().fold(
+        (
+            Vector::splat(Real::INFINITY),
+            Vector::splat(Real::NEG_INFINITY),
+        ),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    let across = (hi - lo).max_element();
+    if !(across.is_finite() && across >= MIN_MESH_SIZE) {
+        return Err(CollisionError::BadShape {
+            index,
+            message: format!(
+                "mesh `{}` scaled by {scale:e} is {across:.3e} m across: expected a finite size of at \
+                 least {MIN_MESH_SIZE:e} m (check `scale`)",
+                file.display()
+            ),
+        });
+    }
     let triangles = obj.triangles().map(|(_, t)| t.map(|i| i as u32)).collect();
     let mesh = TriMesh::with_flags(
         vertices,

@@ -493,6 +493,22 @@ fn mesh_obstacle_files_report_the_line_and_need_faces() {
         .err()
         .expect("error");
     assert!(err.to_string().contains("no faces"), "{err}");
+    // A mesh scaled to a subnormal size (parry's tree over it recursed until the stack
+    // overflowed) is refused by its size; at 1e-6 m across it is built.
+    let tet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    let scaled = |scale: Real| {
+        let mut s = mesh("tet.obj", tet);
+        if let ObstacleShape::Mesh { scale: sc, .. } = &mut s.shape {
+            *sc = scale;
+        }
+        Obstacles::build(&[s], &collision())
+    };
+    let err = scaled(1e-308).err().expect("error");
+    assert!(
+        err.to_string().contains("m across") && err.to_string().contains("scale"),
+        "{err}"
+    );
+    assert!(scaled(1e-6).is_ok());
 }
 
 #[test]
