@@ -2,7 +2,7 @@
 //! `docs/stability.md`.
 
 use super::{check_report_path, read_input, write_report_file, CliError};
-use crate::strategies::{strategy_named, strategy_names};
+use crate::strategies::strategy_named;
 use crate::study::integrators;
 use crate::study::stability::{self, CaseSizes, Search, REPORT_SEARCH};
 use std::path::{Path, PathBuf};
@@ -50,7 +50,7 @@ pub fn stability(out: Option<&Path>, quick: bool, strategy: Option<&str>) -> Res
                 .map_err(|e| CliError::Input(format!("--strategy {name}: {e}")))?
                 .name,
         ],
-        None => strategy_names().to_vec(),
+        None => stability::built_strategies(),
     };
     let default_out = match (strategy, quick) {
         (None, false) => PathBuf::from("docs/stability.md"),

@@ -9,6 +9,7 @@ use super::grid::DistanceGrid;
 use super::motion::{ObstacleMotion, RigidVelocity};
 use super::params::{Obstacle, ObstacleShape};
 use crate::math::{Real, Vec3};
+use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayCullingMode};
 use parry3d_f64::shape::{
@@ -508,14 +509,7 @@ fn mesh_geometry(
         .map(|&[x, y, z]| Vector::new(x, y, z) * scale + translation)
         .collect();
     // parry's tree over the triangles recurses without end on a mesh of subnormal size.
-    let (lo, hi) = vertices.iter().fold(
-        (
-            Vector::splat(Real::INFINITY),
-            Vector::splat(Real::NEG_INFINITY),
-        ),
-        |(lo, hi), &p| (lo.min(p), hi.max(p)),
-    );
-    let across = (hi - lo).max_element();
+    let across = Aabb::from_points_ref(&vertices).extents().max_element();
     if !(across.is_finite() && across >= MIN_MESH_SIZE) {
         return Err(CollisionError::BadShape {
             index,
