@@ -109,7 +109,11 @@ pub(crate) fn log_tick_sci(v: f64) -> String {
     }
 }
 
-/// Log-axis range covering `values` (positive, finite), padded by a factor.
+/// Log-axis range covering `values` (positive, finite), padded by a factor, and holding a power
+/// of ten: plotters' log axis puts its ticks from the first power of ten in the range upwards, so
+/// a range inside one decade (errors from 1.2e-2 to 9e-2 m) would have no tick and no label. The
+/// low end then goes down below the power of ten under it (by a margin, as plotters finds that
+/// power by rounding `ln(lo) / ln(10)` up, which lands on the next decade for `lo` exactly 1e-2).
 pub(crate) fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
     for v in values.filter(|v| v.is_finite() && *v > 0.0) {
@@ -119,10 +123,21 @@ pub(crate) fn log_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
     if !lo.is_finite() {
         return (1e-3, 1.0);
     }
-    if hi <= lo * 1.0001 {
-        return (lo / 2.0, hi * 2.0);
-    }
-    (lo / 1.6, hi * 1.6)
+    let (lo, hi) = if hi <= lo * 1.0001 {
+        (lo / 2.0, hi * 2.0)
+    } else {
+        (lo / 1.6, hi * 1.6)
+    };
+    let decade = 10f64.powf(lo.log10().floor());
+    let holds_a_power_of_ten = decade * 10.0 <= hi || decade >= lo;
+    (
+        if holds_a_power_of_ten {
+            lo
+        } else {
+            decade / 1.25
+        },
+        hi,
+    )
 }
 
 pub(crate) fn lin_range(values: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -297,6 +312,29 @@ where
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every log range holds a power of ten (where plotters' ticks start) and covers its values.
+    #[test]
+    fn a_log_range_inside_one_decade_reaches_down_to_its_power_of_ten() {
+        for values in [
+            vec![1.9e-2, 5.7e-2],
+            vec![3.0e-2, 3.0e-2],
+            vec![0.9e-2, 1.5e-2],
+            vec![1e-4, 2.0],
+            vec![123.0, 456.0],
+        ] {
+            let (lo, hi) = log_range(values.iter().copied());
+            assert!(
+                values.iter().all(|v| lo < *v && *v < hi),
+                "{values:?}: {lo} {hi}"
+            );
+            // As plotters finds it.
+            let first_power = 10f64.powf((lo.ln() / 10f64.ln()).ceil());
+            assert!(first_power <= hi * (1.0 + 1e-12), "{values:?}: {lo} {hi}");
+        }
+        // A range already holding a power of ten keeps its padding.
+        assert_eq!(log_range([1e-4, 2.0].into_iter()), (1e-4 / 1.6, 2.0 * 1.6));
+    }
 
     #[test]
     fn time_series_are_written_without_system_fonts() {
