@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Side-by-side timing against the fastest peer measured (the Taichi explicit cloth script), in
 # one sitting: `scenes/sphere_peer.toml` (static mesh, implicit Euler at a fixed 1/240 s, 0.6 s)
-# with CG and with sparse Cholesky (one thread), against the peer on two threads, at N = 17, 33
-# and 65. Each figure is the smallest of ROUNDS runs (default 3), the configurations
+# with each linear solver (`auto`, the default; CG; sparse Cholesky; the default thread count),
+# against the peer on two threads, at N = 17, 33 and 65. Each figure is the smallest of ROUNDS runs (default 3), the configurations
 # interleaved round by round so machine noise falls on all alike. Ours: `wall_time_s` of
 # summary.json; the peer: `wall_s` of its JSON line (its stepping loop only).
 #
@@ -36,7 +36,7 @@ peer() {
 }
 
 declare -A best note unconverged
-configs=(peer cg cholesky)
+configs=(peer auto cg cholesky)
 for round in $(seq "$ROUNDS"); do
   for n in 17 33 65; do
     for c in "${configs[@]}"; do
@@ -55,8 +55,8 @@ done
 
 # A figure with a solve stopped at its cap is marked (unconverged steps) and left out of the
 # fastest of ours.
-echo "| N | Taichi, 2 threads (s) | CG (s) | Cholesky (s) | Taichi's time over our fastest converged |"
-echo "|---:|---:|---:|---:|---:|"
+echo "| N | Taichi, 2 threads (s) | auto (s) | CG (s) | Cholesky (s) | Taichi's time over our fastest converged |"
+echo "|---:|---:|---:|---:|---:|---:|"
 for n in 17 33 65; do
   row="| $n"
   fastest=""

@@ -74,6 +74,9 @@ pub struct StepStats {
     /// True when the direct solver (`integrator.solver = "cholesky"`) failed on the step (the
     /// matrix was not numerically positive definite) and conjugate gradients solved it instead.
     pub solver_fallback: bool,
+    /// True when conjugate gradients stopped above their tolerance and the step was solved again
+    /// by sparse Cholesky (`integrator.solver = "auto"`); `cg_iterations` are CG's.
+    pub direct_rescue: bool,
 }
 
 /// A time integrator over `(x, v)`.

@@ -105,12 +105,15 @@ impl Default for Forces {
 /// How `implicit_euler` solves its linear system.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum LinearSolver {
-    /// Block-Jacobi preconditioned conjugate gradients, matrix-free. The default.
-    #[default]
+    /// Block-Jacobi preconditioned conjugate gradients, matrix-free.
     Cg,
     /// Sparse Cholesky of the assembled matrix, its symbolic analysis kept while the topology is
     /// unchanged; conjugate gradients for a step whose factorisation fails.
     Cholesky,
+    /// Conjugate gradients, and Cholesky for a step whose CG stops at its cap and for a window
+    /// of steps after it (doubling with each such step). The default.
+    #[default]
+    Auto,
 }
 
 /// Options of the integrators that have any; each integrator reads only its own.
@@ -121,7 +124,7 @@ pub struct IntegratorParams {
     pub cg_tolerance: Real,
     /// `implicit_euler`: iteration cap of conjugate gradients per step. Default 200.
     pub cg_max_iterations: usize,
-    /// `implicit_euler`: the linear solver. Default [`LinearSolver::Cg`].
+    /// `implicit_euler`: the linear solver. Default [`LinearSolver::Auto`].
     pub solver: LinearSolver,
     /// `verlet_relaxation`: Gauss-Seidel passes over the edges after each Verlet step.
     /// Default 4.
@@ -133,7 +136,7 @@ impl Default for IntegratorParams {
         IntegratorParams {
             cg_tolerance: 1e-6,
             cg_max_iterations: 200,
-            solver: LinearSolver::Cg,
+            solver: LinearSolver::Auto,
             relaxation_passes: 4,
         }
     }

@@ -38,6 +38,7 @@ impl From<LinearSolver> for physics::LinearSolver {
         match s {
             LinearSolver::Cg => physics::LinearSolver::Cg,
             LinearSolver::Cholesky => physics::LinearSolver::Cholesky,
+            LinearSolver::Auto => physics::LinearSolver::Auto,
         }
     }
 }

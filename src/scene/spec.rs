@@ -272,11 +272,15 @@ impl Default for TimeSpec {
 #[serde(rename_all = "snake_case")]
 pub enum LinearSolver {
     /// Block-Jacobi preconditioned conjugate gradients, matrix-free.
-    #[default]
     Cg,
     /// Sparse Cholesky of the assembled matrix (conjugate gradients for a step whose
     /// factorisation fails, counted in `solver_fallbacks` of summary.json).
     Cholesky,
+    /// Conjugate gradients; a step whose CG stops at `cg_max_iterations` is solved again by
+    /// Cholesky (counted in `cholesky_rescues` of summary.json), and the next 8 steps go straight
+    /// to Cholesky, a window that doubles with each rescue (up to 1024 steps).
+    #[default]
+    Auto,
 }
 
 /// What a run does when a step's linear solve ends above its tolerance (`implicit_euler`).
@@ -302,7 +306,7 @@ pub struct IntegratorSpec {
     pub cg_tolerance: Real,
     /// `implicit_euler`: iteration cap of conjugate gradients per step. Default 200.
     pub cg_max_iterations: usize,
-    /// `implicit_euler`: the linear solver, `cg` or `cholesky`. Default `cg`.
+    /// `implicit_euler`: the linear solver, `auto`, `cg` or `cholesky`. Default `auto`.
     pub solver: LinearSolver,
     /// `implicit_euler`: what a step whose solve ends above `cg_tolerance` does to the run:
     /// `warn` or `fail`. Default `warn`.
@@ -318,7 +322,7 @@ impl Default for IntegratorSpec {
             name: "rk4".into(),
             cg_tolerance: 1e-6,
             cg_max_iterations: 200,
-            solver: LinearSolver::Cg,
+            solver: LinearSolver::Auto,
             on_unconverged: OnUnconverged::Warn,
             relaxation_passes: 4,
         }

@@ -108,6 +108,9 @@ pub struct SolveCounts {
     /// Steps whose direct solve failed and fell back to conjugate gradients
     /// ([`StepStats::solver_fallback`]).
     pub fallbacks: u64,
+    /// Steps whose CG stopped at its cap and that Cholesky solved again
+    /// ([`StepStats::direct_rescue`]).
+    pub rescues: u64,
 }
 
 /// A material point tracked through the run.
@@ -624,6 +627,7 @@ impl Simulation {
     /// `integrator.on_unconverged = "fail"`.
     fn count_solve(&mut self, stats: &StepStats) -> Result<(), StepError> {
         self.solves.fallbacks += u64::from(stats.solver_fallback);
+        self.solves.rescues += u64::from(stats.direct_rescue);
         if !stats.unconverged {
             return Ok(());
         }

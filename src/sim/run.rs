@@ -94,8 +94,12 @@ pub struct RunSummary {
     pub max_self_intersections: usize,
     /// Steps whose linear solve ended above its tolerance (`implicit_euler`; 0 otherwise).
     pub cg_unconverged: u64,
-    /// Steps whose direct solve failed and were solved by CG (`integrator.solver = "cholesky"`).
+    /// Steps whose direct solve failed and were solved by CG (`integrator.solver = "cholesky"`
+    /// or `"auto"`).
     pub solver_fallbacks: u64,
+    /// Steps whose CG stopped at its cap and that were solved again by Cholesky
+    /// (`integrator.solver = "auto"`).
+    pub cholesky_rescues: u64,
     /// What self-collision did, when `collision.self = true`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub self_contact: Option<crate::collision::SelfContactTotals>,
@@ -280,6 +284,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         max_self_intersections,
         cg_unconverged: sim.solves.unconverged,
         solver_fallbacks: sim.solves.fallbacks,
+        cholesky_rescues: sim.solves.rescues,
         self_contact: sim
             .scene
             .collision
@@ -302,7 +307,8 @@ fn warn_unconverged(sim: &Simulation, stats: &crate::physics::StepStats, out_dir
         "warning: {}: the implicit solve did not converge at step {}, t = {:.6} s: {}. The run \
          goes on with the last iterate; every such step is counted in cg_unconverged \
          (metrics.csv, summary.json) and not reported again; integrator.on_unconverged = \
-         \"fail\" ends the run instead",
+         \"fail\" ends the run instead, integrator.solver = \"auto\" or \"cholesky\" solves \
+         such steps to tolerance",
         out_dir.display(),
         sim.steps,
         sim.t,

@@ -38,9 +38,11 @@ fn unconverged_column(out: &std::path::Path) -> Vec<u64> {
         .collect()
 }
 
-/// Issue 13: a solve that stops at its cap above tolerance is counted (cumulative in
-/// metrics.csv, total in summary.json) and warned about once; `on_unconverged = "fail"` ends
-/// the run as failed with what was written so far; converged solves count nothing.
+/// Issue 13: under `solver = "cg"` a solve that stops at its cap above tolerance is counted
+/// (cumulative in metrics.csv, total in summary.json) and warned about once;
+/// `on_unconverged = "fail"` ends the run as failed with what was written so far; converged
+/// solves count nothing. Under the default `auto` the same capped solves are solved again by
+/// Cholesky: none unconverged, no warning, the rescues counted in summary.json.
 #[test]
 fn unconverged_solves_are_counted_warned_about_once_or_fail_the_run() {
     let dir = tempfile::tempdir().unwrap();
@@ -52,10 +54,12 @@ fn unconverged_solves_are_counted_warned_about_once_or_fail_the_run() {
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("warning"), "{err}");
     assert_eq!(summary(&fine)["cg_unconverged"], 0);
+    assert_eq!(summary(&fine)["cholesky_rescues"], 0);
     assert!(unconverged_column(&fine).iter().all(|&c| c == 0));
 
     let capped = dir.path().join("capped");
-    let (code, err) = implicit_run(&capped, &["integrator.cg_max_iterations=1"]);
+    let cg_capped = ["integrator.solver=\"cg\"", "integrator.cg_max_iterations=1"];
+    let (code, err) = implicit_run(&capped, &cg_capped);
     assert_eq!(code, 0, "{err}");
     assert_eq!(err.matches("warning").count(), 1, "{err}");
     assert!(
@@ -74,6 +78,7 @@ fn unconverged_solves_are_counted_warned_about_once_or_fail_the_run() {
     let (code, err) = implicit_run(
         &failed,
         &[
+            "integrator.solver=\"cg\"",
             "integrator.cg_max_iterations=1",
             "integrator.on_unconverged=\"fail\"",
         ],
@@ -92,6 +97,25 @@ fn unconverged_solves_are_counted_warned_about_once_or_fail_the_run() {
     assert!(err.contains(message), "{err}");
     assert_eq!(unconverged_column(&failed).last(), Some(&1));
     assert!(failed.join("frames/frame_00000.obj").is_file());
+
+    let rescued = dir.path().join("rescued");
+    let (code, err) = implicit_run(
+        &rescued,
+        &[
+            "integrator.cg_max_iterations=1",
+            "integrator.on_unconverged=\"fail\"",
+        ],
+    );
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("warning"), "{err}");
+    let s = summary(&rescued);
+    assert_eq!(
+        (&s["status"], &s["cg_unconverged"]),
+        (&"completed".into(), &0.into())
+    );
+    // Steps 1 and 10 (after a window of 8 straight to Cholesky) stop at the cap.
+    assert_eq!(s["cholesky_rescues"], 2, "{s}");
+    assert!(unconverged_column(&rescued).iter().all(|&c| c == 0));
 }
 
 fn summary_of(out: &std::path::Path) -> String {

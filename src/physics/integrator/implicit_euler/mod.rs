@@ -28,7 +28,11 @@
 //!   unchanged; a step whose factorisation fails is solved by CG instead
 //!   ([`StepStats::solver_fallback`]). The matrix is symmetric positive definite (mass plus
 //!   positive semi-definite terms), so the factorisation fails only on round-off or a
-//!   non-finite state.
+//!   non-finite state. `auto` (the default) solves by CG, and a step whose CG stops at its cap
+//!   again by Cholesky ([`StepStats::direct_rescue`]); the next [`AUTO_FIRST_WINDOW`] steps then
+//!   go straight to Cholesky, a window that doubles with every rescue (up to
+//!   [`AUTO_MAX_WINDOW`]), before CG is tried again. Every step is thus solved to tolerance, at
+//!   CG's cost where CG converges.
 //!
 //! Without a [`crate::physics::ForceModel`] behind the dynamics (no Jacobians), the matrix is `M`
 //! and the scheme reduces to symplectic Euler.
@@ -51,10 +55,19 @@ use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
 use system::System;
 
+/// Steps `auto` solves straight by Cholesky after its first rescue of a CG solve.
+pub const AUTO_FIRST_WINDOW: u32 = 8;
+
+/// Longest such window (steps): a run whose CG keeps failing retries it at least this often.
+pub const AUTO_MAX_WINDOW: u32 = 1024;
+
 /// Linearised backward Euler, solved by conjugate gradients or sparse Cholesky.
 #[derive(Debug)]
 pub struct ImplicitEuler {
     solver: LinearSolver,
+    /// `auto`: steps left to solve straight by Cholesky, and the window the next rescue opens.
+    direct_steps_left: u32,
+    next_window: u32,
     /// Set when the run is interrupted: CG stops at its next check.
     interrupt: Option<Arc<AtomicBool>>,
     system: System,
@@ -70,6 +83,8 @@ impl ImplicitEuler {
     pub fn new(params: &IntegratorParams) -> ImplicitEuler {
         ImplicitEuler {
             solver: params.solver,
+            direct_steps_left: 0,
+            next_window: AUTO_FIRST_WINDOW,
             interrupt: None,
             system: System::default(),
             cg: Cg::new(params.cg_tolerance, params.cg_max_iterations),
@@ -139,18 +154,43 @@ impl ImplicitEuler {
                 }
             }
         }
-        let interrupt = self.interrupt.as_deref();
         match self.solver {
-            LinearSolver::Cg => self.cg.solve(&self.system, model, interrupt, &mut self.dv),
-            LinearSolver::Cholesky => {
-                match self.cholesky.solve(&self.system, model, &mut self.dv) {
-                    Ok(()) => StepStats::default(),
-                    Err(_) => StepStats {
-                        solver_fallback: true,
-                        ..self.cg.solve(&self.system, model, interrupt, &mut self.dv)
-                    },
+            LinearSolver::Cg => self.solve_cg(model),
+            LinearSolver::Cholesky => self.solve_direct(model),
+            LinearSolver::Auto if self.direct_steps_left > 0 => {
+                self.direct_steps_left -= 1;
+                self.solve_direct(model)
+            }
+            LinearSolver::Auto => {
+                let cg = self.solve_cg(model);
+                if !cg.unconverged {
+                    return cg;
+                }
+                self.direct_steps_left = self.next_window;
+                self.next_window = (2 * self.next_window).min(AUTO_MAX_WINDOW);
+                StepStats {
+                    cg_iterations: cg.cg_iterations,
+                    direct_rescue: true,
+                    ..self.solve_direct(model)
                 }
             }
+        }
+    }
+
+    /// Solves the built system by CG from `dv = 0`.
+    fn solve_cg(&mut self, model: &crate::physics::ForceModel) -> StepStats {
+        let interrupt = self.interrupt.as_deref();
+        self.cg.solve(&self.system, model, interrupt, &mut self.dv)
+    }
+
+    /// Solves the built system by sparse Cholesky, by CG where the factorisation fails.
+    fn solve_direct(&mut self, model: &crate::physics::ForceModel) -> StepStats {
+        match self.cholesky.solve(&self.system, model, &mut self.dv) {
+            Ok(()) => StepStats::default(),
+            Err(_) => StepStats {
+                solver_fallback: true,
+                ..self.solve_cg(model)
+            },
         }
     }
 

@@ -1,10 +1,10 @@
-//! `implicit_euler` with both solvers: convergence, agreement of CG and Cholesky, the kept
-//! symbolic analysis, the fallback to CG, the interrupt.
+//! `implicit_euler` with its solvers: convergence, agreement of CG and Cholesky, the kept
+//! symbolic analysis, the fallback to CG, `auto`'s rescues and windows, the interrupt.
 
 use super::cg::Cg;
 use super::cholesky::Cholesky;
 use super::system::System;
-use super::ImplicitEuler;
+use super::{ImplicitEuler, AUTO_FIRST_WINDOW};
 use crate::math::{Real, Vec3};
 use crate::mesh::{union_jack, VertexId};
 use crate::physics::{
@@ -117,6 +117,7 @@ fn cholesky_keeps_its_symbolic_analysis_until_the_topology_changes() {
     let other = built(&mesh, &Material::default(), &Forces::default());
     let (x0, v0) = random_state(&mesh, 9, 0.02);
     let mut cg = ImplicitEuler::new(&IntegratorParams {
+        solver: LinearSolver::Cg,
         cg_tolerance: 1e-12,
         cg_max_iterations: 10_000,
         ..IntegratorParams::default()
@@ -168,6 +169,7 @@ fn a_failed_factorisation_falls_back_to_cg() {
 fn implicit_euler_stops_its_cg_loop_when_interrupted() {
     let (model, mut x, mut v, dt) = stiff_sheet(SpringMode::Tension);
     let params = IntegratorParams {
+        solver: LinearSolver::Auto,
         cg_tolerance: 1e-300,
         cg_max_iterations: 10_000,
         ..Default::default()
@@ -175,5 +177,55 @@ fn implicit_euler_stops_its_cg_loop_when_interrupted() {
     let mut integ = ImplicitEuler::new(&params);
     integ.set_interrupt(std::sync::Arc::new(true.into()));
     let stats = integ.step(&model, 0.0, dt, &mut x, &mut v);
-    assert!(stats.cg_iterations < 16 && !stats.unconverged, "{stats:?}");
+    assert!(
+        stats.cg_iterations < 16 && !stats.unconverged && !stats.direct_rescue,
+        "{stats:?}"
+    );
+}
+
+/// `auto` where CG converges is CG, bit for bit; where CG stops at its cap (a cap of 3
+/// iterations on the stiff sheet), the step is solved again by Cholesky and lands where
+/// Cholesky's does, converged; the next `AUTO_FIRST_WINDOW` steps go straight to Cholesky (no CG
+/// iteration), then CG is tried again and the window doubles.
+#[test]
+fn auto_is_cg_where_cg_converges_and_rescues_capped_solves_with_cholesky() {
+    let with = |solver, cap| {
+        ImplicitEuler::new(&IntegratorParams {
+            solver,
+            cg_max_iterations: cap,
+            ..IntegratorParams::default()
+        })
+    };
+    let (model, x0, v0, dt) = stiff_sheet(SpringMode::Tension);
+    let run = |integ: &mut ImplicitEuler, steps: usize| {
+        let (mut x, mut v) = (x0.clone(), v0.clone());
+        let stats: Vec<_> = (0..steps)
+            .map(|k| integ.step(&model, k as Real * dt, dt, &mut x, &mut v))
+            .collect();
+        (x, v, stats)
+    };
+    let (xa, va, auto_stats) = run(&mut with(LinearSolver::Auto, 200), 5);
+    let (xc, vc, _) = run(&mut with(LinearSolver::Cg, 200), 5);
+    assert!(auto_stats
+        .iter()
+        .all(|s| !s.direct_rescue && !s.unconverged));
+    assert_eq!((xa, va), (xc, vc), "auto is CG where CG converges");
+
+    let window = AUTO_FIRST_WINDOW as usize;
+    let steps = 2 * window + 3;
+    let (xa, _, stats) = run(&mut with(LinearSolver::Auto, 3), steps);
+    let (xd, _, _) = run(&mut with(LinearSolver::Cholesky, 3), steps);
+    let rescued: Vec<usize> = (0..steps).filter(|&k| stats[k].direct_rescue).collect();
+    assert_eq!(rescued, [0, window + 1], "{stats:?}");
+    for (k, s) in stats.iter().enumerate() {
+        assert!(!s.unconverged && !s.solver_fallback, "step {k}: {s:?}");
+        let tried_cg = rescued.contains(&k);
+        assert_eq!(s.cg_iterations > 0, tried_cg, "step {k}: {s:?}");
+    }
+    let diff: Vec<Vec3> = xa.iter().zip(&xd).map(|(a, b)| a - b).collect();
+    assert!(
+        norm(&diff) <= 1e-9 * norm(&xd),
+        "auto's rescued run lands where Cholesky's does: {:e} m",
+        norm(&diff)
+    );
 }
