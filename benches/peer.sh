@@ -20,34 +20,35 @@ BIN=target/release/adaptcloth
 [ -f "$PEER" ] || { echo "no peer script at $PEER (set PEER)" >&2; exit 2; }
 mkdir -p "$OUT"
 
-# ours N SOLVER -> wall seconds, unconverged steps, status
+# ours N SOLVER -> wall seconds, unconverged steps, status, steps rescued by Cholesky (auto)
 ours() {
   local dir="$OUT/ours-$1-$2"
   "$BIN" run sphere_peer --strategy static --integrator implicit_euler \
     --set cloth.resolution="$1" --set 'time.mode="fixed"' --set time.dt=0.0041666666666666667 \
     --set integrator.solver="\"$2\"" --out "$dir" --quiet >/dev/null
-  "$PY" -c 'import json,sys; d=json.load(open(sys.argv[1])); print(d["wall_time_s"], d.get("cg_unconverged", 0), d["status"])' \
+  "$PY" -c 'import json,sys; d=json.load(open(sys.argv[1])); print(d["wall_time_s"], d.get("cg_unconverged", 0), d["status"], d.get("cholesky_rescues", 0))' \
     "$dir/summary.json"
 }
 
 peer() {
   "$PY" "$PEER" --n "$1" --threads 2 --out "$OUT/taichi-$1" |
-    "$PY" -c 'import json,sys; d=json.loads(sys.stdin.readline()); print(d["wall_s"], 0, "stable" if d.get("stable") else "UNSTABLE")'
+    "$PY" -c 'import json,sys; d=json.loads(sys.stdin.readline()); print(d["wall_s"], 0, "stable" if d.get("stable") else "UNSTABLE", 0)'
 }
 
-declare -A best note unconverged
+declare -A best note unconverged rescued
 configs=(peer auto cg cholesky)
 for round in $(seq "$ROUNDS"); do
   for n in 17 33 65; do
     for c in "${configs[@]}"; do
-      if [ "$c" = peer ]; then read -r s u st < <(peer "$n")
-      else read -r s u st < <(ours "$n" "$c"); fi
+      if [ "$c" = peer ]; then read -r s u st r < <(peer "$n")
+      else read -r s u st r < <(ours "$n" "$c"); fi
       key="$n/$c"
       if [ -z "${best[$key]:-}" ] || "$PY" -c "import sys; sys.exit(0 if $s < ${best[$key]} else 1)"; then
         best[$key]=$s
       fi
       note[$key]=$st
       unconverged[$key]=$(( ${unconverged[$key]:-0} > u ? ${unconverged[$key]:-0} : u ))
+      rescued[$key]=$(( ${rescued[$key]:-0} > r ? ${rescued[$key]:-0} : r ))
     done
   done
   echo "round $round done" >&2
@@ -64,6 +65,7 @@ for n in 17 33 65; do
     cell=${best[$n/$c]}
     u=${unconverged[$n/$c]}
     [ "$u" -gt 0 ] && cell="$cell ($u unconverged)"
+    [ "${rescued[$n/$c]}" -gt 0 ] && cell="$cell (${rescued[$n/$c]} rescued)"
     [ "${note[$n/$c]}" = completed ] || [ "${note[$n/$c]}" = stable ] || cell="$cell (${note[$n/$c]})"
     row="$row | $cell"
     if [ "$c" != peer ] && [ "$u" -eq 0 ] && [ "${note[$n/$c]}" = completed ]; then

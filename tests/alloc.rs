@@ -60,6 +60,7 @@ fn steady_state_steps_do_not_allocate() {
         vec![],
         vec![implicit, "integrator.solver=\"cg\""],
         vec![implicit, "integrator.solver=\"cholesky\""],
+        vec![implicit, "integrator.solver=\"auto\""],
     ];
     for ((name, setting), integrator) in scenes
         .into_iter()

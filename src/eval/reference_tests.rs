@@ -34,6 +34,7 @@ fn later_integrator_keys_enter_the_cache_key_only_when_set() {
     for o in [
         "integrator.on_unconverged=\"fail\"",
         "integrator.solver=\"cholesky\"",
+        "integrator.solver=\"cg\"",
     ] {
         assert_ne!(base, cache_key(&sphere(&[o]), &settings), "{o}");
     }

@@ -71,11 +71,12 @@ pub struct StepStats {
     /// at their iteration cap (or broke down) first. The step was taken with the last iterate.
     /// False for a solve cut short by an interrupt (the run stops after that step anyway).
     pub unconverged: bool,
-    /// True when the direct solver (`integrator.solver = "cholesky"`) failed on the step (the
-    /// matrix was not numerically positive definite) and conjugate gradients solved it instead.
+    /// True when the direct solver (`integrator.solver = "cholesky"` or `"auto"`) failed on the
+    /// step (the matrix was not numerically positive definite) and conjugate gradients solved it
+    /// instead.
     pub solver_fallback: bool,
-    /// True when conjugate gradients stopped above their tolerance and the step was solved again
-    /// by sparse Cholesky (`integrator.solver = "auto"`); `cg_iterations` are CG's.
+    /// True when conjugate gradients ended above their tolerance and sparse Cholesky solved the
+    /// step again (`integrator.solver = "auto"`); `cg_iterations` are CG's.
     pub direct_rescue: bool,
 }
 

@@ -7,19 +7,27 @@ use crate::mesh::{union_jack, Mesh, VertexId};
 use crate::physics::{Forces, Material, SpringMode, StiffnessModel};
 use crate::testing::{built, lifted, no_forces, random_state};
 
-/// Every registered integrator by name with its default options, then `implicit_euler` with the
-/// sparse Cholesky solver (`implicit_euler/cholesky`): laws of the integrators hold whatever
-/// solves the implicit step.
+/// Every registered integrator by name with its default options (`implicit_euler` with the
+/// `auto` solver), then `implicit_euler` with each solver named (`implicit_euler/cg`,
+/// `implicit_euler/cholesky`): laws of the integrators hold whatever solves the implicit step.
 fn every_integrator() -> Vec<(String, Box<dyn Integrator>)> {
-    let cholesky = IntegratorParams {
-        solver: LinearSolver::Cholesky,
-        ..IntegratorParams::default()
+    let with = |solver| {
+        let params = IntegratorParams {
+            solver,
+            ..IntegratorParams::default()
+        };
+        make_integrator("implicit_euler", &params).expect("registered")
     };
-    let direct = make_integrator("implicit_euler", &cholesky).expect("registered");
     INTEGRATORS
         .iter()
         .map(|n| (n.to_string(), integrator_named(n).expect("registered")))
-        .chain([("implicit_euler/cholesky".to_string(), direct)])
+        .chain([
+            ("implicit_euler/cg".to_string(), with(LinearSolver::Cg)),
+            (
+                "implicit_euler/cholesky".to_string(),
+                with(LinearSolver::Cholesky),
+            ),
+        ])
         .collect()
 }
 

@@ -8,6 +8,7 @@ use crate::io::{frame_path, is_frame_name, temp_path, write_atomic, MetricsRow, 
 use crate::math::Real;
 use crate::math::Vec3;
 use crate::mesh::Mesh;
+use crate::scene::LinearSolver;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -303,12 +304,16 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
 /// The warning, on stderr, about the first step of a run whose solve ended above tolerance
 /// (`stats`: its report); the run's folder `out_dir` names the run.
 fn warn_unconverged(sim: &Simulation, stats: &crate::physics::StepStats, out_dir: &Path) {
+    let remedy = if sim.scene.integrator.solver == LinearSolver::Cg {
+        ", integrator.solver = \"auto\" or \"cholesky\" solves such steps to tolerance"
+    } else {
+        ""
+    };
     eprintln!(
         "warning: {}: the implicit solve did not converge at step {}, t = {:.6} s: {}. The run \
          goes on with the last iterate; every such step is counted in cg_unconverged \
          (metrics.csv, summary.json) and not reported again; integrator.on_unconverged = \
-         \"fail\" ends the run instead, integrator.solver = \"auto\" or \"cholesky\" solves \
-         such steps to tolerance",
+         \"fail\" ends the run instead{remedy}",
         out_dir.display(),
         sim.steps,
         sim.t,

@@ -28,11 +28,11 @@
 //!   unchanged; a step whose factorisation fails is solved by CG instead
 //!   ([`StepStats::solver_fallback`]). The matrix is symmetric positive definite (mass plus
 //!   positive semi-definite terms), so the factorisation fails only on round-off or a
-//!   non-finite state. `auto` (the default) solves by CG, and a step whose CG stops at its cap
-//!   again by Cholesky ([`StepStats::direct_rescue`]); the next [`AUTO_FIRST_WINDOW`] steps then
-//!   go straight to Cholesky, a window that doubles with every rescue (up to
-//!   [`AUTO_MAX_WINDOW`]), before CG is tried again. Every step is thus solved to tolerance, at
-//!   CG's cost where CG converges.
+//!   non-finite state. `auto` (the default) solves by CG, and a step whose CG ends above its
+//!   tolerance (at its cap, or broken down) again by Cholesky ([`StepStats::direct_rescue`]); the
+//!   next [`AUTO_FIRST_WINDOW`] steps then go straight to Cholesky, a window that doubles with
+//!   every rescue (up to [`AUTO_MAX_WINDOW`]), before CG is tried again. Every step is thus
+//!   solved to tolerance unless the factorisation fails too, at CG's cost where CG converges.
 //!
 //! Without a [`crate::physics::ForceModel`] behind the dynamics (no Jacobians), the matrix is `M`
 //! and the scheme reduces to symplectic Euler.
@@ -168,10 +168,19 @@ impl ImplicitEuler {
                 }
                 self.direct_steps_left = self.next_window;
                 self.next_window = (2 * self.next_window).min(AUTO_MAX_WINDOW);
-                StepStats {
-                    cg_iterations: cg.cg_iterations,
-                    direct_rescue: true,
-                    ..self.solve_direct(model)
+                match self.cholesky.solve(&self.system, model, &mut self.dv) {
+                    Ok(()) => StepStats {
+                        cg_iterations: cg.cg_iterations,
+                        unconverged: false,
+                        solver_fallback: false,
+                        direct_rescue: true,
+                    },
+                    // The factorisation failed (a non-finite state): CG's iterate again (CG is
+                    // deterministic), the step unconverged.
+                    Err(_) => StepStats {
+                        solver_fallback: true,
+                        ..self.solve_cg(model)
+                    },
                 }
             }
         }

@@ -136,7 +136,8 @@ fn cholesky_keeps_its_symbolic_analysis_until_the_topology_changes() {
 }
 
 /// A matrix that is not positive definite (a spring of negative stiffness, far beyond the mass
-/// at this step) fails the factorisation: the step is solved by CG and flagged.
+/// at this step) fails the factorisation: the step is solved by CG and flagged, under
+/// `cholesky` and under `auto` alike.
 #[test]
 fn a_failed_factorisation_falls_back_to_cg() {
     let material = Material {
@@ -157,9 +158,18 @@ fn a_failed_factorisation_falls_back_to_cg() {
     let model = ForceModel::from_parts(&material, &forces, vec![1.0, 1.0], &[false; 2], springs);
     let mut x = vec![Vec3::zeros(), Vec3::new(1.5, 0.0, 0.0)];
     let mut v = vec![Vec3::zeros(); 2];
+    let (x0, v0) = (x.clone(), v.clone());
     let stats = implicit(LinearSolver::Cholesky).step(&model, 0.0, 0.1, &mut x, &mut v);
     assert!(
         stats.solver_fallback && stats.cg_iterations > 0,
+        "{stats:?}"
+    );
+    // `auto` whose CG ends above tolerance on this matrix tries Cholesky, which fails: the step
+    // is CG's, unconverged, a fallback and not a rescue.
+    let (mut x, mut v) = (x0, v0);
+    let stats = implicit(LinearSolver::Auto).step(&model, 0.0, 0.1, &mut x, &mut v);
+    assert!(
+        stats.unconverged && stats.solver_fallback && !stats.direct_rescue,
         "{stats:?}"
     );
 }
