@@ -110,8 +110,8 @@ pub enum LinearSolver {
     /// Sparse Cholesky of the assembled matrix, its symbolic analysis kept while the topology is
     /// unchanged; conjugate gradients for a step whose factorisation fails.
     Cholesky,
-    /// Conjugate gradients, and Cholesky for a step whose CG stops at its cap and for a window
-    /// of steps after it (doubling with each such step). The default.
+    /// Conjugate gradients, and Cholesky for a step whose CG ends above its tolerance and for a
+    /// window of steps after it (doubling with each such step). The default.
     #[default]
     Auto,
 }

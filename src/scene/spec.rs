@@ -276,8 +276,8 @@ pub enum LinearSolver {
     /// Sparse Cholesky of the assembled matrix (conjugate gradients for a step whose
     /// factorisation fails, counted in `solver_fallbacks` of summary.json).
     Cholesky,
-    /// Conjugate gradients; a step whose CG stops at `cg_max_iterations` is solved again by
-    /// Cholesky (counted in `cholesky_rescues` of summary.json), and the next 8 steps go straight
+    /// Conjugate gradients; a step whose CG ends above `cg_tolerance` (at `cg_max_iterations`,
+    /// or broken down) is solved again by Cholesky (counted in `cholesky_rescues` of summary.json), and the next 8 steps go straight
     /// to Cholesky, a window that doubles with each rescue (up to 1024 steps).
     #[default]
     Auto,

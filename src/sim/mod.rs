@@ -108,7 +108,7 @@ pub struct SolveCounts {
     /// Steps whose direct solve failed and fell back to conjugate gradients
     /// ([`StepStats::solver_fallback`]).
     pub fallbacks: u64,
-    /// Steps whose CG stopped at its cap and that Cholesky solved again
+    /// Steps whose CG ended above its tolerance and that Cholesky solved again
     /// ([`StepStats::direct_rescue`]).
     pub rescues: u64,
 }

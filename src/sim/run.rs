@@ -98,7 +98,7 @@ pub struct RunSummary {
     /// Steps whose direct solve failed and were solved by CG (`integrator.solver = "cholesky"`
     /// or `"auto"`).
     pub solver_fallbacks: u64,
-    /// Steps whose CG stopped at its cap and that were solved again by Cholesky
+    /// Steps whose CG ended above its tolerance and that Cholesky solved again
     /// (`integrator.solver = "auto"`).
     pub cholesky_rescues: u64,
     /// What self-collision did, when `collision.self = true`.

@@ -168,19 +168,15 @@ impl ImplicitEuler {
                 }
                 self.direct_steps_left = self.next_window;
                 self.next_window = (2 * self.next_window).min(AUTO_MAX_WINDOW);
-                match self.cholesky.solve(&self.system, model, &mut self.dv) {
-                    Ok(()) => StepStats {
-                        cg_iterations: cg.cg_iterations,
-                        unconverged: false,
-                        solver_fallback: false,
-                        direct_rescue: true,
-                    },
-                    // The factorisation failed (a non-finite state): CG's iterate again (CG is
-                    // deterministic), the step unconverged.
-                    Err(_) => StepStats {
-                        solver_fallback: true,
-                        ..self.solve_cg(model)
-                    },
+                let direct = self.solve_direct(model);
+                if direct.solver_fallback {
+                    // The factorisation failed too: the step is CG's again, unconverged.
+                    return direct;
+                }
+                StepStats {
+                    cg_iterations: cg.cg_iterations,
+                    direct_rescue: true,
+                    ..direct
                 }
             }
         }
