@@ -6,6 +6,7 @@
 //!
 //! Where it sits: at the bottom, beside `math`: it knows file formats, not meshes or physics.
 
+mod decimal;
 mod metrics;
 pub mod obj;
 

@@ -11,6 +11,7 @@
 //! Written: the frames a run records ([`write_frame`]): a `# adaptcloth frame, t = T s` first line,
 //! `v` world positions and `vt` rest coordinates with 9 decimals, `f v/vt` triangles.
 
+use super::decimal::push_fixed9;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -254,11 +255,19 @@ pub fn write_frame(
 ) -> std::io::Result<()> {
     let mut s = String::with_capacity(64 * positions.len() + 32 * triangles.len());
     let _ = writeln!(s, "# adaptcloth frame, t = {time:.6} s");
+    let mut line = |tag: &str, coordinates: &[f64]| {
+        s.push_str(tag);
+        for &c in coordinates {
+            s.push(' ');
+            push_fixed9(&mut s, c);
+        }
+        s.push('\n');
+    };
     for p in positions {
-        let _ = writeln!(s, "v {:.9} {:.9} {:.9}", p[0], p[1], p[2]);
+        line("v", p);
     }
     for r in rest {
-        let _ = writeln!(s, "vt {:.9} {:.9}", r[0], r[1]);
+        line("vt", r);
     }
     for t in triangles {
         let [a, b, c] = t.map(|i| i + 1);

@@ -1,17 +1,23 @@
 //! The filtered system `A_f` (see [`super::system`]) as a sparse symmetric matrix: its lower
-//! triangle in compressed sparse columns, three scalar rows and columns per vertex slot (slot `i`
-//! owns rows `3i..3i+3`), for the direct solver.
+//! triangle in compressed sparse columns, three scalar rows and columns per vertex slot, for the
+//! direct solver, in the elimination order: slot `i` owns rows `3 p..3 p + 3` with `p =`
+//! [`Pattern::position`]`(i)`, its place in an approximate-minimum-degree ordering of the slots.
 //!
 //! The sparsity pattern depends only on the topology: a 3x3 block on the diagonal of every slot,
 //! and one off-diagonal block per pair of slots joined by a spring or sharing a bending element.
-//! [`Pattern::new`] builds it once per topology together with, for every element, where its
-//! blocks go; [`Pattern::fill`] writes a step's values into it. Entries stay in the pattern when
-//! they are zero (a spring in compression, a fixed slot's coupling), so the pattern, and with it
-//! the solver's symbolic analysis, survives every step until the mesh changes.
+//! [`Pattern::new`] orders the slots and builds the pattern once per topology together with, for
+//! every element, where its blocks go; [`Pattern::fill`] writes a step's values straight into
+//! it, already permuted, so the factorisation needs no ordering of its own and no permuted copy
+//! of the matrix per step. Entries stay in the pattern when they are zero (a spring in
+//! compression, a fixed slot's coupling), so the pattern, and with it the solver's symbolic
+//! analysis, survives every step until the mesh changes.
 
 use super::system::System;
 use crate::math::{Mat3, Real};
 use crate::physics::ForceModel;
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::sparse::linalg::amd;
+use faer::sparse::{FaerError, SymbolicSparseColMatRef};
 
 /// Pairs `(k, l)` of an element's four vertices, each coupling block of a bending element.
 const BEND_PAIRS: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
@@ -24,47 +30,63 @@ pub(super) struct Pattern {
     spring_a: Vec<u32>,
     spring_b: Vec<u32>,
     bends: Vec<[u32; 4]>,
-    /// Off-diagonal blocks by block column: those of slot `c` are `block_ptr[c]..block_ptr[c+1]`,
-    /// with block rows `block_row` (slots above `c`, ascending).
+    /// Per slot, its place in the elimination order (block row and column).
+    position: Vec<usize>,
+    /// Per place in the elimination order, its slot (the inverse of `position`).
+    slot_at: Vec<usize>,
+    /// Off-diagonal blocks by block column: those of place `c` are `block_ptr[c]..block_ptr[c+1]`,
+    /// with block rows `block_row` (places after `c`, ascending).
     block_ptr: Vec<usize>,
     block_row: Vec<usize>,
     /// Per spring, the index of its off-diagonal block.
     spring_block: Vec<usize>,
     /// Per bending element, the index of the block of each pair in [`BEND_PAIRS`].
     bend_block: Vec<[usize; 6]>,
-    /// Scalar column starts (`3 slots + 1` of them) and row indices, sorted within each column.
+    /// Scalar column starts (`3 slots + 1` of them) and row indices, sorted within each column, in
+    /// the elimination order.
     pub(super) col_ptr: Vec<usize>,
     pub(super) row_idx: Vec<usize>,
 }
 
 impl Pattern {
-    /// The pattern of `model`'s topology. The vertices of each element are distinct slots (a
-    /// conforming mesh).
-    pub(super) fn new(model: &ForceModel) -> Pattern {
+    /// The pattern of `model`'s topology, its slots in approximate-minimum-degree order (fails
+    /// only when the ordering's memory cannot be had). The vertices of each element are distinct
+    /// slots (a conforming mesh).
+    pub(super) fn new(model: &ForceModel) -> Result<Pattern, FaerError> {
         let slots = model.mass().len();
         let (sp, bends) = (model.springs(), &model.bends().v);
-        // Every coupled pair once, as (column, row) with row > column, sorted.
-        let ordered = |p: u32, q: u32| (p.min(q) as usize, p.max(q) as usize);
-        let mut pairs: Vec<(usize, usize)> = (0..sp.len())
-            .map(|j| ordered(sp.a[j], sp.b[j]))
-            .chain(
-                bends
-                    .iter()
-                    .flat_map(|v| BEND_PAIRS.map(|(k, l)| ordered(v[k], v[l]))),
-            )
-            .collect();
-        pairs.sort_unstable();
-        pairs.dedup();
-        let mut block_ptr = vec![0; slots + 1];
-        for &(c, _) in &pairs {
-            block_ptr[c + 1] += 1;
-        }
-        for c in 0..slots {
-            block_ptr[c + 1] += block_ptr[c];
-        }
-        let block_row: Vec<usize> = pairs.iter().map(|&(_, r)| r).collect();
+        let coupled = |place: &dyn Fn(u32) -> usize| {
+            // Every coupled pair once, as (column, row) with row > column, sorted.
+            let ordered = |p: u32, q: u32| {
+                let (p, q) = (place(p), place(q));
+                (p.min(q), p.max(q))
+            };
+            let mut pairs: Vec<(usize, usize)> = (0..sp.len())
+                .map(|j| ordered(sp.a[j], sp.b[j]))
+                .chain(
+                    bends
+                        .iter()
+                        .flat_map(|v| BEND_PAIRS.map(|(k, l)| ordered(v[k], v[l]))),
+                )
+                .collect();
+            pairs.sort_unstable();
+            pairs.dedup();
+            let mut block_ptr = vec![0; slots + 1];
+            for &(c, _) in &pairs {
+                block_ptr[c + 1] += 1;
+            }
+            for c in 0..slots {
+                block_ptr[c + 1] += block_ptr[c];
+            }
+            let block_row: Vec<usize> = pairs.iter().map(|&(_, r)| r).collect();
+            (block_ptr, block_row)
+        };
+        let (slot_ptr, slot_row) = coupled(&|p| p as usize);
+        let (slot_at, position) = minimum_degree_order(&slot_ptr, &slot_row)?;
+        let (block_ptr, block_row) = coupled(&|p| position[p as usize]);
         let find = |p: u32, q: u32| {
-            let (c, r) = ordered(p, q);
+            let (p, q) = (position[p as usize], position[q as usize]);
+            let (c, r) = (p.min(q), p.max(q));
             let rows = &block_row[block_ptr[c]..block_ptr[c + 1]];
             block_ptr[c]
                 + rows
@@ -90,8 +112,10 @@ impl Pattern {
                 col_ptr.push(row_idx.len());
             }
         }
-        Pattern {
+        Ok(Pattern {
             slots,
+            position,
+            slot_at,
             spring_a: sp.a.clone(),
             spring_b: sp.b.clone(),
             bends: bends.clone(),
@@ -101,7 +125,7 @@ impl Pattern {
             bend_block,
             col_ptr,
             row_idx,
-        }
+        })
     }
 
     /// True when `model` has the topology this pattern was built for (same slots, springs and
@@ -112,6 +136,11 @@ impl Pattern {
             && self.spring_a == sp.a
             && self.spring_b == sp.b
             && self.bends == model.bends().v
+    }
+
+    /// The place of `slot` in the elimination order: its scalar rows are `3 p..3 p + 3`.
+    pub(super) fn position(&self, slot: usize) -> usize {
+        self.position[slot]
     }
 
     /// Number of scalar rows (and columns): three per slot.
@@ -137,8 +166,11 @@ impl Pattern {
         let bend_terms = model.bends().v.iter().zip(&self.bend_block);
         for ((ids, at), (u, &w)) in bend_terms.zip(system.bend_u.iter().zip(&system.bend_w)) {
             for (&p, &(k, l)) in at.iter().zip(&BEND_PAIRS) {
-                // The block at (row r, column c), r > c, is w u_r u_cᵀ.
-                let (r, c) = if ids[k] > ids[l] { (k, l) } else { (l, k) };
+                // The block at (row r, column c), r after c, is w u_r u_cᵀ.
+                let later = |k: usize, l: usize| {
+                    self.position[ids[k] as usize] > self.position[ids[l] as usize]
+                };
+                let (r, c) = if later(k, l) { (k, l) } else { (l, k) };
                 blocks[p] += u[r] * u[c].transpose() * w;
             }
         }
@@ -147,17 +179,18 @@ impl Pattern {
         values.resize(self.row_idx.len(), 0.0);
         for c in 0..self.slots {
             let range = self.block_ptr[c]..self.block_ptr[c + 1];
+            let slot = self.slot_at[c];
             for k in 0..3 {
                 let start = self.col_ptr[3 * c + k];
-                let diag = &system.diag_blocks[c];
+                let diag = &system.diag_blocks[slot];
                 for i in k..3 {
                     values[start + i - k] = diag[(i, k)];
                 }
-                if fixed(c) {
+                if fixed(slot) {
                     continue; // the column of a fixed slot is the identity's
                 }
                 for (q, p) in range.clone().enumerate() {
-                    if fixed(self.block_row[p]) {
+                    if fixed(self.slot_at[self.block_row[p]]) {
                         continue;
                     }
                     for i in 0..3 {
@@ -167,4 +200,25 @@ impl Pattern {
             }
         }
     }
+}
+
+/// An approximate-minimum-degree order of the slots of the block pattern `(ptr, row)` (the lower
+/// triangle's off-diagonal blocks by column): per place the slot there, and per slot its place.
+/// Ordering the slots rather than the scalar rows keeps each slot's three rows together.
+fn minimum_degree_order(
+    ptr: &[usize],
+    row: &[usize],
+) -> Result<(Vec<usize>, Vec<usize>), FaerError> {
+    let n = ptr.len() - 1;
+    let (mut slot_at, mut position) = (vec![0; n], vec![0; n]);
+    let structure = SymbolicSparseColMatRef::new_checked(n, n, ptr, None, row);
+    let mut scratch = MemBuffer::try_new(amd::order_scratch::<usize>(n, row.len()))?;
+    amd::order(
+        &mut slot_at,
+        &mut position,
+        structure,
+        amd::Control::default(),
+        MemStack::new(&mut scratch),
+    )?;
+    Ok((slot_at, position))
 }

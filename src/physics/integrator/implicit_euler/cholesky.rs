@@ -1,7 +1,7 @@
 //! The direct solver: sparse Cholesky (`L Lᵀ`, `faer`) of the assembled filtered system.
 //!
-//! The symbolic analysis (approximate-minimum-degree ordering and the structure of `L`) depends
-//! only on the pattern, so it is kept while the topology is unchanged (same slots, springs and
+//! The symbolic analysis (the slots' approximate-minimum-degree ordering, [`Pattern::new`], and
+//! the structure of `L`) depends only on the pattern, so it is kept while the topology is unchanged (same slots, springs and
 //! bending elements as the previous step) and redone after a mesh edit; each step then costs one
 //! numeric factorisation and two triangular solves. Sequential (`Par::Seq`), so results do not
 //! depend on a thread count. Allocation-free in steady state.
@@ -71,7 +71,7 @@ impl Cholesky {
             Some(a) if a.pattern.fits(model) => a,
             slot => {
                 *slot = None; // free the old analysis first
-                let fresh = slot.insert(analyse(Pattern::new(model))?);
+                let fresh = slot.insert(analyse(Pattern::new(model).map_err(|_| DirectFailure)?)?);
                 self.analyses += 1;
                 fresh
             }
@@ -95,27 +95,33 @@ impl Cholesky {
             )
             .map_err(|_| DirectFailure)?;
         self.rhs.clear();
-        self.rhs
-            .extend(system.b.iter().flat_map(|b| [b.x, b.y, b.z]));
+        self.rhs.resize(n, 0.0);
+        for (i, b) in system.b.iter().enumerate() {
+            let p = 3 * pattern.position(i);
+            self.rhs[p..p + 3].copy_from_slice(b.as_slice());
+        }
         let rhs = MatMut::from_column_major_slice_mut(&mut self.rhs, n, 1);
         llt.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(scratch));
-        for (d, r) in dv.iter_mut().zip(self.rhs.chunks_exact(3)) {
-            *d = Vec3::new(r[0], r[1], r[2]);
+        for (i, d) in dv.iter_mut().enumerate() {
+            let p = 3 * pattern.position(i);
+            *d = Vec3::from_column_slice(&self.rhs[p..p + 3]);
         }
         Ok(())
     }
 }
 
-/// The symbolic analysis of `pattern` (lower triangle, AMD ordering, supernodal) and its scratch
-/// memory.
+/// The symbolic analysis of `pattern` (lower triangle, already in elimination order,
+/// supernodal) and its scratch memory.
 fn analyse(pattern: Pattern) -> Result<Analysis, DirectFailure> {
     let n = pattern.dim();
-    let structure =
-        SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx);
+    // Without an ordering of its own, faer's symbolic analysis reads the upper triangle.
+    let (upper_ptr, upper_row) = transpose(n, &pattern.col_ptr, &pattern.row_idx);
+    let structure = SymbolicSparseColMatRef::new_checked(n, n, &upper_ptr, None, &upper_row);
     let symbolic = factorize_symbolic_cholesky(
         structure,
         Side::Lower,
-        SymmetricOrdering::Amd,
+        SymmetricOrdering::Identity,
+        // The pattern is in its elimination order already.
         // Supernodal always: faer's automatic choice takes the simplicial (scalar) factorisation
         // for small meshes, three times slower here (17x17 sphere_peer: 1.9 against 0.65 ms a
         // step); the 3x3 blocks make supernodes of every vertex.
@@ -135,4 +141,25 @@ fn analyse(pattern: Pattern) -> Result<Analysis, DirectFailure> {
         symbolic,
         scratch,
     })
+}
+
+/// The transpose of the `n x n` compressed-column structure `(ptr, row)`, rows sorted in each
+/// column.
+fn transpose(n: usize, ptr: &[usize], row: &[usize]) -> (Vec<usize>, Vec<usize>) {
+    let mut t_ptr = vec![0; n + 1];
+    for &r in row {
+        t_ptr[r + 1] += 1;
+    }
+    for c in 0..n {
+        t_ptr[c + 1] += t_ptr[c];
+    }
+    let mut next = t_ptr.clone();
+    let mut t_row = vec![0; row.len()];
+    for c in 0..n {
+        for &r in &row[ptr[c]..ptr[c + 1]] {
+            t_row[next[r]] = c;
+            next[r] += 1;
+        }
+    }
+    (t_ptr, t_row)
 }

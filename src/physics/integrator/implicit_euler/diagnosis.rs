@@ -53,7 +53,7 @@ fn iterations(system: &System, model: &ForceModel) -> usize {
 /// Smallest and largest eigenvalue of the block-Jacobi preconditioned matrix `D^-1/2 A D^-1/2`
 /// over the free slots (`D`: the 3x3 diagonal blocks), from the assembled lower triangle.
 fn preconditioned_spectrum(system: &System, model: &ForceModel) -> (Real, Real) {
-    let pattern = Pattern::new(model);
+    let pattern = Pattern::new(model).expect("memory for the ordering");
     let (mut blocks, mut values) = (Vec::new(), Vec::new());
     pattern.fill(system, model, &mut blocks, &mut values);
     let free: Vec<usize> = (0..model.mass().len())
@@ -62,7 +62,7 @@ fn preconditioned_spectrum(system: &System, model: &ForceModel) -> (Real, Real) 
     let mut index = vec![usize::MAX; 3 * model.mass().len()];
     for (k, &i) in free.iter().enumerate() {
         for c in 0..3 {
-            index[3 * i + c] = 3 * k + c;
+            index[3 * pattern.position(i) + c] = 3 * k + c;
         }
     }
     let m = 3 * free.len();
