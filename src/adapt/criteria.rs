@@ -11,7 +11,7 @@ use super::{AdaptParams, Criteria};
 use crate::cloth::Cloth;
 use crate::collision::{Obstacles, TOUCH_MARGINS};
 use crate::math::{Real, Vec3};
-use crate::mesh::{EdgeKey, Mesh};
+use crate::mesh::{EdgeFaces, EdgeKey, Mesh};
 
 /// Why an edge was selected for refinement.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -101,22 +101,37 @@ pub fn max_area(spec: &AdaptParams) -> Real {
     Real::sqrt(3.0) / 4.0 * spec.l_max * spec.l_max
 }
 
-/// The area-scaled curvature refinement limit (rad): `theta_max (A_max / A_e)^exponent`, with
-/// `theta_max = acos(cos_refine)`, capped at pi.
-pub fn area_scaled_angle(spec: &AdaptParams, mean_face_area: Real) -> Real {
-    let theta_max = spec.cos_refine.clamp(-1.0, 1.0).acos();
-    if mean_face_area <= 0.0 {
-        return std::f64::consts::PI;
+/// The area-scaled curvature refinement limit (rad) of MODEL.md §7,
+/// `theta_max (A_max / A_e)^exponent` with `theta_max = acos(cos_refine)`, capped at pi; its
+/// constants taken once per pass.
+pub struct AreaScaledAngle {
+    theta_max: Real,
+    max_area: Real,
+    exponent: Real,
+}
+
+impl AreaScaledAngle {
+    /// The limit under `spec`.
+    pub fn new(spec: &AdaptParams) -> Self {
+        AreaScaledAngle {
+            theta_max: spec.cos_refine.clamp(-1.0, 1.0).acos(),
+            max_area: max_area(spec),
+            exponent: spec.curvature_exponent,
+        }
     }
-    (theta_max * (max_area(spec) / mean_face_area).powf(spec.curvature_exponent))
-        .min(std::f64::consts::PI)
+
+    /// The limit (rad) for faces of mean rest area `mean_face_area` (m²); pi for no area.
+    pub fn at(&self, mean_face_area: Real) -> Real {
+        if mean_face_area <= 0.0 {
+            return std::f64::consts::PI;
+        }
+        (self.theta_max * (self.max_area / mean_face_area).powf(self.exponent))
+            .min(std::f64::consts::PI)
+    }
 }
 
 /// Mean rest area (m²) of the faces adjacent to an edge.
-fn mean_adjacent_area(mesh: &Mesh, e: EdgeKey) -> Real {
-    let Some(faces) = mesh.edge(e.0, e.1) else {
-        return 0.0;
-    };
+fn mean_adjacent_area(mesh: &Mesh, faces: &EdgeFaces) -> Real {
     let (sum, n) = faces.iter().fold((0.0, 0.0), |(s, n), f| {
         (s + mesh.face_rest_area(f), n + 1.0)
     });
@@ -147,6 +162,7 @@ pub fn select_source(
     let mesh = &cloth.mesh;
     let normals = vertex_normals(cloth);
     let curved = faces_in_curved_contact(cloth, obstacles, spec);
+    let area_scaled = AreaScaledAngle::new(spec);
     let mut refine = Vec::new();
     let mut simplify = Vec::new();
     for (e, faces) in mesh.edges() {
@@ -188,8 +204,7 @@ pub fn select_source(
         // 3. Curvature.
         let (na, nb) = (normals[e.0 .0 as usize], normals[e.1 .0 as usize]);
         let angle = na.dot(&nb).clamp(-1.0, 1.0).acos();
-        let limit =
-            info.refine_angle_limit(e, area_scaled_angle(spec, mean_adjacent_area(mesh, e)));
+        let limit = info.refine_angle_limit(e, area_scaled.at(mean_adjacent_area(mesh, faces)));
         if angle > limit {
             if can_refine {
                 refine.push((e, RefineReason::Curvature));
@@ -464,8 +479,9 @@ mod tests {
         }
         // Smaller faces get a larger angle limit (harder to refine).
         let s = spec();
-        assert!(area_scaled_angle(&s, 0.001) > area_scaled_angle(&s, 0.01));
-        assert!(area_scaled_angle(&s, max_area(&s)) - s.cos_refine.acos() < 1e-12);
+        let limit = AreaScaledAngle::new(&s);
+        assert!(limit.at(0.001) > limit.at(0.01));
+        assert!(limit.at(max_area(&s)) - s.cos_refine.acos() < 1e-12);
     }
 
     #[test]

@@ -169,6 +169,87 @@ fn the_segment_cull_hides_no_contact() {
     }
 }
 
+/// The criteria's edge query in closed form ([`Solid::segment_closest`]: a cylinder's side, a
+/// cap's or a box face's flat region, a sphere) agrees with parry's contact, distance and
+/// obstacle normal at the point, and answers most segments near a round table, a box and a
+/// sphere.
+#[test]
+fn the_closed_form_segment_contact_agrees_with_gjk() {
+    let shapes = [
+        (
+            ObstacleShape::Cylinder {
+                center: [0.0, 0.0, 0.375],
+                radius: 0.35,
+                height: 0.75,
+            },
+            Vector::new(0.0, 0.0, 0.375),
+            0.6,
+        ),
+        (
+            ObstacleShape::Box {
+                center: [0.1, -0.2, 0.3],
+                half_extents: [0.3, 0.2, 0.25],
+            },
+            Vector::new(0.1, -0.2, 0.3),
+            0.5,
+        ),
+        (
+            ObstacleShape::Sphere {
+                center: [0.0, 0.1, 0.0],
+                radius: 0.25,
+            },
+            Vector::new(0.0, 0.1, 0.0),
+            0.4,
+        ),
+    ];
+    let mut next = crate::testing::uniform(777);
+    for (shape, middle, half) in shapes {
+        let obs = obstacles(shape);
+        let solid = &obs.obstacles[0];
+        let (mut closed, mut regions) = (0, 0);
+        for _ in 0..4000 {
+            let centre =
+                middle + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * 2.0 * half;
+            let size = (0.01 + 0.2 * next()) * half;
+            let p = centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
+            let q = centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
+            let Some((distance, point)) = solid.segment_closest(p, q) else {
+                continue;
+            };
+            closed += 1;
+            regions += usize::from(
+                solid.flat_region(p).is_some() || matches!(solid.geometry(), Geometry::Ball(_)),
+            );
+            let gjk = parry3d_f64::query::contact(
+                &Pose::identity(),
+                &Segment::new(p, q),
+                solid.pose(),
+                solid.shape(),
+                10.0,
+            )
+            .unwrap()
+            .expect("within 10 m");
+            // GJK stops within about 1e-8 m; the closed form is exact.
+            assert!(
+                (distance - gjk.dist).abs() < 1e-7,
+                "{p} {q}: {distance} {gjk:?}"
+            );
+            let (ours, theirs) = (solid.project(point), solid.project(gjk.point1));
+            assert!(
+                ours.normal.dot(theirs.normal) > 1.0 - 1e-6,
+                "{p} {q}: {ours:?} {theirs:?}"
+            );
+            // The point is on the segment.
+            let t = (point - p).dot(q - p) / (q - p).length_squared().max(1e-300);
+            assert!((p + (q - p) * t.clamp(0.0, 1.0) - point).length() < 1e-9);
+        }
+        assert!(
+            closed > 1000 && regions > 300,
+            "{closed} closed, {regions} in flat regions"
+        );
+    }
+}
+
 /// A wide face through a frictionless sphere, its centroid over the centre: the pass lifts
 /// the contact point to the margin in one move, removes its inward velocity and changes the
 /// momentum only along the normal. With a vertex pinned, that vertex never moves and the
