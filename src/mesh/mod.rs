@@ -3,8 +3,10 @@
 //! Vertices and faces live in slots addressed by [`VertexId`] and [`FaceId`]. Slots freed by an edit
 //! are reused (smallest first, so runs are deterministic) and every slot carries a generation that
 //! is bumped when it is freed, so a strategy holding a [`VertexKey`] across edits can detect a stale
-//! handle. Edges are derived from the faces and kept incrementally in a sorted map keyed by the
-//! ordered vertex pair, so iteration order never depends on hashing.
+//! handle. Edges are derived from the faces and kept incrementally, each listed at its smaller
+//! vertex in a short list sorted by the larger one: an edge is found by one index and a scan of a
+//! few entries, and iteration runs in key order (by the ordered vertex pair), never depending on
+//! hashing.
 //!
 //! Every change goes through [`Mesh::replace`] (module `edit`), which checks its preconditions,
 //! leaves the mesh untouched on failure and returns an [`EditRecord`] of what changed; the state
@@ -28,7 +30,7 @@ pub use obj::{load_obj, ObjCloth, ObjError};
 pub use patch::Patch;
 
 use crate::math::{signed_area, Real, Vec2};
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeSet;
 
 /// Most vertices a cloth may start with (and the most `adaptivity.max_vertices` may allow): a
 /// run needs about [`BYTES_PER_VERTEX`] of memory per vertex, so this is about 4 GB, a sixth of
@@ -108,7 +110,10 @@ pub struct Mesh {
     face_live: Vec<bool>,
     face_generation: Vec<u32>,
     free_faces: BTreeSet<u32>,
-    edges: BTreeMap<EdgeKey, EdgeFaces>,
+    /// Per vertex slot, the edges whose smaller vertex it is: the larger vertex and the adjacent
+    /// faces, sorted by the larger vertex.
+    lower_edges: Vec<Vec<(VertexId, EdgeFaces)>>,
+    edge_count: usize,
     vertex_faces: Vec<Vec<FaceId>>,
     pattern_area: Real,
     version: u64,
@@ -173,7 +178,7 @@ impl Mesh {
 
     /// Number of edges.
     pub fn edge_count(&self) -> usize {
-        self.edges.len()
+        self.edge_count
     }
 
     /// Number of vertex slots (live or free): the length of per-vertex state arrays.
@@ -220,12 +225,18 @@ impl Mesh {
 
     /// Edges in key order, with their adjacent faces.
     pub fn edges(&self) -> impl Iterator<Item = (EdgeKey, &EdgeFaces)> + '_ {
-        self.edges.iter().map(|(k, f)| (*k, f))
+        self.lower_edges.iter().enumerate().flat_map(|(a, list)| {
+            list.iter()
+                .map(move |(b, faces)| (EdgeKey(VertexId(a as u32), *b), faces))
+        })
     }
 
     /// The faces adjacent to the edge between `a` and `b`, if that edge exists.
     pub fn edge(&self, a: VertexId, b: VertexId) -> Option<&EdgeFaces> {
-        self.edges.get(&EdgeKey::new(a, b))
+        let key = EdgeKey::new(a, b);
+        let list = self.lower_edges.get(key.0 .0 as usize)?;
+        let k = list.binary_search_by_key(&key.1, |&(b, _)| b).ok()?;
+        Some(&list[k].1)
     }
 
     /// True when `v` is a live vertex slot.
@@ -343,6 +354,7 @@ impl Mesh {
             self.vertex_live[i] = true;
             self.pinned[i] = false;
             self.vertex_faces[i].clear();
+            self.lower_edges[i].clear();
             return VertexId(slot);
         }
         self.rest.push(rest);
@@ -350,6 +362,7 @@ impl Mesh {
         self.vertex_generation.push(0);
         self.pinned.push(false);
         self.vertex_faces.push(Vec::new());
+        self.lower_edges.push(Vec::new());
         VertexId(self.rest.len() as u32 - 1)
     }
 
@@ -381,19 +394,20 @@ impl Mesh {
             let pos = list.partition_point(|&g| g < f);
             list.insert(pos, f);
             let key = EdgeKey::new(vs[k], vs[(k + 1) % 3]);
-            match self.edges.get_mut(&key) {
-                None => {
-                    self.edges.insert(
-                        key,
-                        EdgeFaces {
-                            first: f,
-                            second: None,
-                            extra: 0,
-                        },
-                    );
+            let list = &mut self.lower_edges[key.0 .0 as usize];
+            match list.binary_search_by_key(&key.1, |&(b, _)| b) {
+                Err(at) => {
+                    let faces = EdgeFaces {
+                        first: f,
+                        second: None,
+                        extra: 0,
+                    };
+                    list.insert(at, (key.1, faces));
+                    self.edge_count += 1;
                 }
-                Some(e) => match e.second {
+                Ok(at) => match list[at].1.second {
                     None => {
+                        let e = &mut list[at].1;
                         if f < e.first {
                             e.second = Some(e.first);
                             e.first = f;
@@ -401,7 +415,7 @@ impl Mesh {
                             e.second = Some(f);
                         }
                     }
-                    Some(_) => e.extra += 1,
+                    Some(_) => list[at].1.extra += 1,
                 },
             }
         }
@@ -417,7 +431,9 @@ impl Mesh {
                 list.remove(pos);
             }
             let key = EdgeKey::new(vs[k], vs[(k + 1) % 3]);
-            if let Some(e) = self.edges.get_mut(&key) {
+            let list = &mut self.lower_edges[key.0 .0 as usize];
+            if let Ok(at) = list.binary_search_by_key(&key.1, |&(b, _)| b) {
+                let e = &mut list[at].1;
                 if e.extra > 0 {
                     // Broken meshes only: which face stays listed no longer matters.
                     e.extra -= 1;
@@ -428,7 +444,8 @@ impl Mesh {
                             e.second = None;
                         }
                         None => {
-                            self.edges.remove(&key);
+                            list.remove(at);
+                            self.edge_count -= 1;
                         }
                     }
                 } else if e.second == Some(f) {

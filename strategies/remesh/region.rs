@@ -17,7 +17,6 @@ pub fn components(mesh: &Mesh, edges: &[EdgeKey]) -> Vec<Vec<EdgeKey>> {
         .collect();
     sorted.sort_unstable();
     sorted.dedup();
-    let index: BTreeMap<EdgeKey, usize> = sorted.iter().enumerate().map(|(i, e)| (*e, i)).collect();
     let mut uf = UnionFind::<usize>::new(sorted.len());
     for (i, e) in sorted.iter().enumerate() {
         let Some(faces) = mesh.edge(e.0, e.1) else {
@@ -26,7 +25,7 @@ pub fn components(mesh: &Mesh, edges: &[EdgeKey]) -> Vec<Vec<EdgeKey>> {
         for f in faces.iter() {
             let vs = mesh.face(f);
             for k in 0..3 {
-                if let Some(&j) = index.get(&EdgeKey::new(vs[k], vs[(k + 1) % 3])) {
+                if let Ok(j) = sorted.binary_search(&EdgeKey::new(vs[k], vs[(k + 1) % 3])) {
                     uf.union(i, j);
                 }
             }
