@@ -115,20 +115,21 @@ pub fn energy_trial(
     }
     let patch = mesh.patch(&core);
     let local_edit = localise(&patch, edit);
+    let Patch {
+        mesh: patch_mesh,
+        vertices,
+        ..
+    } = patch;
     let model = &cloth.model;
-    let x = patch
-        .vertices
-        .iter()
-        .map(|v| cloth.x[v.0 as usize])
-        .collect();
+    let x = vertices.iter().map(|v| cloth.x[v.0 as usize]).collect();
     let mut sub = Cloth::new(
-        patch.mesh.clone(),
+        patch_mesh,
         x,
         Vec3::zeros(),
         model.material(),
         model.switches(),
     );
-    for (local, v) in patch.vertices.iter().enumerate() {
+    for (local, v) in vertices.iter().enumerate() {
         sub.v[local] = cloth.v[v.0 as usize];
     }
     let before = sub.model.energies(&sub.x, &sub.v);
