@@ -123,6 +123,21 @@ fn the_cylinder_cull_hides_no_contact() {
     );
 }
 
+/// A random segment about a random point of the box of half-width `half` (m) about `middle`,
+/// its ends within `reach` times `half` of that point along each axis.
+fn random_segment(
+    next: &mut impl FnMut() -> Real,
+    middle: Vector,
+    half: Real,
+    reach: Real,
+) -> (Vector, Vector) {
+    let centre = middle + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * 2.0 * half;
+    let size = (0.01 + reach * next()) * half;
+    let p = centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
+    let q = centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
+    (p, q)
+}
+
 /// The criteria's edge query skips a cylinder only where the segment is surely clear of it: a
 /// skipped segment has no contact closer than the band, at its ends included. (A mesh's branch
 /// is the faces' cull, by the distance grid's lower bound.)
@@ -144,11 +159,7 @@ fn the_segment_cull_hides_no_contact() {
         let solid = &obs.obstacles[0];
         let (mut culled, mut kept) = (0, 0);
         for _ in 0..4000 {
-            let centre =
-                middle + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * 2.0 * half;
-            let size = (0.01 + 0.3 * next()) * half;
-            let p = centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
-            let q = centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
+            let (p, q) = random_segment(&mut next, middle, half, 0.3);
             let band = 0.004 + 0.05 * next();
             if solid.hull_clear([p, q, q], band) {
                 culled += 1;
@@ -208,11 +219,7 @@ fn the_closed_form_segment_contact_agrees_with_gjk() {
         let solid = &obs.obstacles[0];
         let (mut closed, mut regions) = (0, 0);
         for _ in 0..4000 {
-            let centre =
-                middle + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * 2.0 * half;
-            let size = (0.01 + 0.2 * next()) * half;
-            let p = centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
-            let q = centre + Vector::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
+            let (p, q) = random_segment(&mut next, middle, half, 0.2);
             let Some((distance, point)) = solid.segment_closest(p, q) else {
                 continue;
             };
