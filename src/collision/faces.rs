@@ -26,10 +26,10 @@ use crate::math::{Real, Vec3};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query::PointQuery;
-use parry3d_f64::shape::{Segment, Shape, TriMesh, Triangle};
+use parry3d_f64::shape::{Shape, TriMesh, Triangle};
 
 /// Below this length (m) an offset gives no direction.
-const DEGENERATE_LENGTH: Real = 1e-12;
+pub(super) const DEGENERATE_LENGTH: Real = 1e-12;
 
 /// Most passes of the face response over the faces (a face pushed out may push a neighbour in;
 /// what a last pass leaves shows in `max_surface_penetration`). A pass visits only the faces
@@ -69,7 +69,7 @@ impl Solid {
     /// the points outside the solid whose closest surface point lies on that one flat face. A
     /// region is convex, so a triangle with its three vertices in one region lies in it and is
     /// closest to the solid at a vertex. `None` elsewhere and for other shapes.
-    fn flat_region(&self, p: Vector) -> Option<u8> {
+    pub(super) fn flat_region(&self, p: Vector) -> Option<u8> {
         let local = self.pose().inverse_transform_point(p);
         match self.geometry() {
             Geometry::Cuboid(s) => {
@@ -96,55 +96,6 @@ impl Solid {
         }
     }
 
-    /// Distance (m) from a point in the flat region `region` ([`Solid::flat_region`]; `local` in
-    /// the solid's frame) to the solid: its height over that face's plane.
-    fn flat_region_distance(&self, local: Vector, region: u8) -> Real {
-        let axis = usize::from(region / 2);
-        match self.geometry() {
-            Geometry::Cuboid(s) => local[axis].abs() - s.half_extents[axis],
-            Geometry::Cylinder(s) => local.y.abs() - s.half_height,
-            _ => Real::INFINITY,
-        }
-    }
-
-    /// The closest point of the segment `p -> q` (world, m) to the solid and its distance (m),
-    /// in closed form where the geometry gives one: both ends in one flat region of a box or a
-    /// cylinder (the distance is the height over the face's plane, linear along the segment, so
-    /// least at an end: `p` on a tie), a cylinder's side ([`cylinder_side_contact`]), or a
-    /// sphere the segment stays outside of. `None` elsewhere (left to parry's contact).
-    pub(super) fn segment_closest(&self, p: Vector, q: Vector) -> Option<(Real, Vector)> {
-        if let Some(region) = self.flat_region(p) {
-            if self.flat_region(q) == Some(region) {
-                let to = |x: Vector| {
-                    let local = self.pose().inverse_transform_point(x);
-                    self.flat_region_distance(local, region)
-                };
-                let (dp, dq) = (to(p), to(q));
-                return Some(if dq < dp { (dq, q) } else { (dp, p) });
-            }
-        }
-        match self.geometry() {
-            Geometry::Cylinder(s) => {
-                cylinder_side_contact(self.pose(), s.radius, s.half_height, [p, q, q])
-                    .map(|c| (c.distance, c.point))
-            }
-            Geometry::Ball(ball) => {
-                // The segment's closest point to the centre, when outside the ball.
-                let (centre, pq) = (self.pose().translation, q - p);
-                let length2 = pq.length_squared();
-                let t = if length2 > 0.0 {
-                    ((centre - p).dot(pq) / length2).clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                let closest = p + pq * t;
-                let distance = (closest - centre).length() - ball.radius;
-                (distance > DEGENERATE_LENGTH).then_some((distance, closest))
-            }
-            _ => None,
-        }
-    }
-
     /// Whether the triangle surely has no contact closer than `band` (m) other than at its
     /// vertices: its three vertices in one flat region ([`Solid::flat_region`]), or the whole
     /// triangle clear ([`Solid::hull_clear`]).
@@ -166,7 +117,7 @@ impl Solid {
     /// radius by `band` (the solid lies inside its infinite cylinder); for a mesh, one vertex is
     /// farther than `band` plus its longest edge (the signed distance is 1-Lipschitz; the grid's
     /// lower bound answers without a query). `false` when unsure.
-    fn hull_clear(&self, tri: [Vector; 3], band: Real) -> bool {
+    pub(super) fn hull_clear(&self, tri: [Vector; 3], band: Real) -> bool {
         match self.geometry() {
             Geometry::Cylinder(s) => {
                 let across = tri.map(|p| {
@@ -435,7 +386,7 @@ fn distance_to_origin_2d(tri: [[Real; 2]; 3]) -> (Real, Option<(usize, Real)>) {
 /// closed form, when it is surely the side's: every vertex between the caps' planes and the
 /// triangle outside the infinite cylinder. Then its closest point to the axis (on an edge) is the
 /// contact and the normal is radial. `None` otherwise (left to GJK).
-fn cylinder_side_contact(
+pub(super) fn cylinder_side_contact(
     pose: &Pose,
     radius: Real,
     half_height: Real,
@@ -483,47 +434,6 @@ fn inside_triangle(r: Vector, tri: [Vector; 3], n: Vector) -> bool {
 }
 
 impl Obstacles {
-    /// The obstacle closest to the segment `a -> b` (m) among those nearer than `band` (m), by
-    /// [`Solid::segment_closest`] where it has a closed form, else parry's contact between the
-    /// segment and the obstacle (skipped where the obstacle's box or [`Solid::hull_clear`] says
-    /// the segment is clear); the point and outward normal are the obstacle's projection of the
-    /// segment's closest point.
-    pub(super) fn edge_touch(&self, a: Vec3, b: Vec3, band: Real) -> Option<super::EdgeHit> {
-        let (p, q) = (to_glam(a), to_glam(b));
-        let segment = Segment::new(p, q);
-        let (lo, hi) = (p.min(q), p.max(q));
-        let mut best: Option<(Real, super::EdgeHit)> = None;
-        for (k, ob) in self.obstacles.iter().enumerate() {
-            if !ob.overlaps(lo, hi, band) || ob.hull_clear([p, q, q], band) {
-                continue;
-            }
-            let (dist, point) = match ob.segment_closest(p, q) {
-                Some((dist, point)) if dist <= band => (dist, point),
-                Some(_) => continue,
-                None => match parry3d_f64::query::contact(
-                    &Pose::identity(),
-                    &segment,
-                    ob.pose(),
-                    ob.shape(),
-                    band,
-                ) {
-                    Ok(Some(c)) => (c.dist, c.point1),
-                    _ => continue,
-                },
-            };
-            if best.as_ref().is_none_or(|(d, _)| dist < *d) {
-                let proj = ob.project(point);
-                let hit = super::EdgeHit {
-                    obstacle: k,
-                    point: to_na(proj.point),
-                    normal: to_na(proj.normal),
-                };
-                best = Some((dist, hit));
-            }
-        }
-        best.map(|(_, hit)| hit)
-    }
-
     /// Face query for the adaptivity criteria: the obstacle (ground excluded: a plane meets a face
     /// first at a vertex) closest to the triangle `tri` (world, m) among those nearer than `band`
     /// (m): the triangle's point of contact and the obstacle's outward unit normal there; `None`

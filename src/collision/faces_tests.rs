@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::collision::{Obstacle, ObstacleShape};
+use parry3d_f64::shape::Segment;
 
 fn obstacles(shape: ObstacleShape) -> Obstacles {
     crate::testing::obstacles(&[Obstacle::new(shape)])

@@ -19,7 +19,8 @@
 //!
 //! Files: `shape` (one obstacle and its parry queries, nalgebra <-> glam conversions), `motion`
 //! (rigid motions: pose and velocity at a time), `faces`
-//! (obstacles against the cloth's triangles: the surface penetration),
+//! (obstacles against the cloth's triangles: the surface penetration), `segment_query` (the
+//! criteria's edge query, in closed form where it can be),
 //! `cylinder_ray` (closed-form ray entry into a cylinder, in place of parry's GJK), `grid` (mesh
 //! signed-distance bounds), `crossings` (the cloth's crossings with itself:
 //! [`self_intersections`]), `face_grid` (a uniform grid of triangles' boxes, for the measure and
@@ -38,6 +39,7 @@ mod motion;
 #[cfg(test)]
 mod motion_tests;
 mod params;
+mod segment_query;
 mod self_contact;
 mod shape;
 #[cfg(test)]
