@@ -139,8 +139,8 @@ impl Mesh {
     /// ids, [`Mesh::patch`], whose faces around the region are the mesh's). Anything else may break
     /// the mesh.
     pub(crate) fn replace_checked(&mut self, edit: &Edit) -> EditRecord {
-        let removed: BTreeSet<FaceId> = edit.remove.iter().copied().collect();
-        let region: BTreeSet<VertexId> = removed.iter().flat_map(|&f| self.face(f)).collect();
+        let removed = sorted_unique(edit.remove.clone());
+        let region = self.region_vertices(&removed);
         let gone = self.vanishing(edit, &removed, &region);
         self.commit(edit, gone)
     }
@@ -193,13 +193,11 @@ impl Mesh {
         if edit.remove.is_empty() {
             return Err(EditError::NotATiling("the edit removes no face".into()));
         }
-        let mut removed = BTreeSet::new();
-        for &f in &edit.remove {
-            if !self.is_face(f) || !removed.insert(f) {
-                return Err(EditError::StaleFace(f));
-            }
+        if let Some(f) = self.first_stale(&edit.remove) {
+            return Err(EditError::StaleFace(f));
         }
-        let region: BTreeSet<VertexId> = removed.iter().flat_map(|&f| self.face(f)).collect();
+        let removed = sorted_unique(edit.remove.clone());
+        let region = self.region_vertices(&removed);
         // New vertices.
         for (index, nv) in edit.new_vertices.iter().enumerate() {
             let bad = |reason: String| Err(EditError::BadNewVertex { index, reason });
@@ -244,7 +242,7 @@ impl Mesh {
             }
             if let Some(Key::Old(v)) = keys
                 .iter()
-                .find(|k| matches!(k, Key::Old(v) if !region.contains(v)))
+                .find(|k| matches!(k, Key::Old(v) if region.binary_search(v).is_err()))
             {
                 return Err(EditError::NotATiling(format!(
                     "new face {face} uses vertex {} which is not a vertex of the removed faces",
@@ -258,8 +256,8 @@ impl Mesh {
                 "new vertex {k} is used by no new face"
             )));
         }
-        self.check_tiling(edit, &removed, &added, &pos)?;
-        self.check_local_conformity(&removed, &added)?;
+        let new_dir = self.check_tiling(edit, &removed, &added, &pos)?;
+        self.check_local_conformity(&removed, &added, &new_dir)?;
         let gone = self.vanishing(edit, &removed, &region);
         match gone.iter().find(|&&v| self.is_pinned(v)) {
             Some(&v) => Err(EditError::RemovesPinned(v)),
@@ -267,88 +265,126 @@ impl Mesh {
         }
     }
 
-    /// The vertices of `region` (the `removed` faces' vertices) that `edit` leaves without faces,
-    /// in id order.
-    fn vanishing(
-        &self,
-        edit: &Edit,
-        removed: &BTreeSet<FaceId>,
-        region: &BTreeSet<VertexId>,
-    ) -> Vec<VertexId> {
-        let in_new: BTreeSet<VertexId> = edit
-            .add
-            .iter()
-            .flatten()
-            .filter_map(|r| match *r {
-                VertexRef::Old(v) => Some(v),
-                VertexRef::New(_) => None,
-            })
-            .collect();
+    /// The first face of `remove` (in its order) that is not live or repeats an earlier one.
+    fn first_stale(&self, remove: &[FaceId]) -> Option<FaceId> {
+        let sorted = {
+            let mut s = remove.to_vec();
+            s.sort_unstable();
+            s
+        };
+        let mut seen = vec![false; sorted.len()];
+        remove.iter().copied().find(|&f| {
+            if !self.is_face(f) {
+                return true;
+            }
+            // Equal ids sit together in `sorted`: the first of them marks the id as seen.
+            let k = sorted.partition_point(|&g| g < f);
+            std::mem::replace(&mut seen[k], true)
+        })
+    }
+
+    /// The vertices of the (sorted) `removed` faces, sorted, each once.
+    fn region_vertices(&self, removed: &[FaceId]) -> Vec<VertexId> {
+        sorted_unique(removed.iter().flat_map(|&f| self.face(f)).collect())
+    }
+
+    /// The vertices of `region` (the sorted `removed` faces' vertices) that `edit` leaves without
+    /// faces, in id order.
+    fn vanishing(&self, edit: &Edit, removed: &[FaceId], region: &[VertexId]) -> Vec<VertexId> {
+        let in_new = sorted_unique(
+            edit.add
+                .iter()
+                .flatten()
+                .filter_map(|r| match *r {
+                    VertexRef::Old(v) => Some(v),
+                    VertexRef::New(_) => None,
+                })
+                .collect(),
+        );
         region
             .iter()
             .copied()
             .filter(|v| {
-                !in_new.contains(v) && self.vertex_faces(*v).iter().all(|f| removed.contains(f))
+                in_new.binary_search(v).is_err()
+                    && self
+                        .vertex_faces(*v)
+                        .iter()
+                        .all(|f| removed.binary_search(f).is_ok())
             })
             .collect()
     }
 
-    /// The new faces cover exactly the removed region: directed boundaries cancel except along the
-    /// cloth border, where old and new border chains cover the same straight segments; areas agree.
+    /// The new faces cover exactly the removed region (sorted): directed boundaries cancel except
+    /// along the cloth border, where old and new border chains cover the same straight segments;
+    /// areas agree. Returns the new faces' directed edges, sorted (each once: no two new faces
+    /// traverse the same edge the same way).
     fn check_tiling(
         &self,
         edit: &Edit,
-        removed: &BTreeSet<FaceId>,
+        removed: &[FaceId],
         added: &[[Key; 3]],
         pos: &dyn Fn(Key) -> Vec2,
-    ) -> Result<(), EditError> {
-        let not = |s: String| Err(EditError::NotATiling(s));
-        let mut old_dir = BTreeSet::new();
-        for &f in removed {
-            let vs = self.face(f);
-            for k in 0..3 {
-                old_dir.insert((Key::Old(vs[k]), Key::Old(vs[(k + 1) % 3])));
-            }
-        }
-        let mut new_dir: BTreeMap<(Key, Key), usize> = BTreeMap::new();
-        for (i, keys) in added.iter().enumerate() {
-            for k in 0..3 {
-                let e = (keys[k], keys[(k + 1) % 3]);
-                if let Some(j) = new_dir.insert(e, i) {
-                    return not(format!(
-                        "new faces {j} and {i} overlap (both traverse {e:?})"
-                    ));
-                }
-            }
-        }
-        let old_border: BTreeSet<(Key, Key)> = old_dir
+    ) -> Result<Vec<(Key, Key)>, EditError> {
+        let not = EditError::NotATiling;
+        // A conforming mesh traverses each directed edge once: no duplicates to remove.
+        let mut old_dir: Vec<(Key, Key)> = removed
             .iter()
-            .filter(|&&(a, b)| !old_dir.contains(&(b, a)))
-            .copied()
+            .flat_map(|&f| {
+                let vs = self.face(f).map(Key::Old);
+                (0..3).map(move |k| (vs[k], vs[(k + 1) % 3]))
+            })
             .collect();
-        let new_border: BTreeSet<(Key, Key)> = new_dir
-            .keys()
-            .filter(|&&(a, b)| !new_dir.contains_key(&(b, a)))
-            .copied()
+        old_dir.sort_unstable();
+        // Each directed edge with its corner slot `3 i + k` (face i, corner k), the slots in order.
+        let mut slots: Vec<((Key, Key), usize)> = added
+            .iter()
+            .enumerate()
+            .flat_map(|(i, keys)| (0..3).map(move |k| ((keys[k], keys[(k + 1) % 3]), 3 * i + k)))
             .collect();
-        let old_rest: Vec<(Key, Key)> = old_border.difference(&new_border).copied().collect();
-        let new_rest: Vec<(Key, Key)> = new_border.difference(&old_border).copied().collect();
+        slots.sort_unstable();
+        // Two faces traversing one edge the same way: report the first repeat in face order.
+        if let Some(w) = slots
+            .windows(2)
+            .filter(|w| w[0].0 == w[1].0)
+            .min_by_key(|w| w[1].1)
+        {
+            let (e, j, i) = (w[1].0, w[0].1 / 3, w[1].1 / 3);
+            return Err(not(format!(
+                "new faces {j} and {i} overlap (both traverse {e:?})"
+            )));
+        }
+        let new_dir: Vec<(Key, Key)> = slots.into_iter().map(|(e, _)| e).collect();
+        let border = |dir: &[(Key, Key)]| -> Vec<(Key, Key)> {
+            dir.iter()
+                .filter(|&&(a, b)| dir.binary_search(&(b, a)).is_err())
+                .copied()
+                .collect()
+        };
+        let (old_border, new_border) = (border(&old_dir), border(&new_dir));
+        let minus = |a: &[(Key, Key)], b: &[(Key, Key)]| -> Vec<(Key, Key)> {
+            a.iter()
+                .filter(|e| b.binary_search(e).is_err())
+                .copied()
+                .collect()
+        };
+        let old_rest = minus(&old_border, &new_border);
+        let new_rest = minus(&new_border, &old_border);
         // Remaining old edges must be cloth-border edges.
         for &(a, b) in &old_rest {
             if let (Key::Old(va), Key::Old(vb)) = (a, b) {
                 if let Some(g) = self
                     .edge(va, vb)
-                    .and_then(|e| e.iter().find(|g| !removed.contains(g)))
+                    .and_then(|e| e.iter().find(|g| removed.binary_search(g).is_err()))
                 {
-                    return not(format!(
+                    return Err(not(format!(
                         "edge {}-{} between the region and kept face {} is not reproduced by the \
                          new faces",
                         va.0, vb.0, g.0
-                    ));
+                    )));
                 }
             }
         }
-        match_border_chains(&old_rest, &new_rest, pos).or_else(not)?;
+        match_border_chains(&old_rest, &new_rest, pos).map_err(not)?;
         // Areas.
         let area_old: Real = removed.iter().map(|&f| self.face_rest_area(f)).sum();
         let mut area_new = 0.0;
@@ -366,20 +402,21 @@ impl Mesh {
         }
         let error = (area_new - area_old).abs();
         if error.is_nan() || error > AREA_EDIT_REL_TOL * area_old + allowance {
-            return not(format!(
+            return Err(not(format!(
                 "removed faces cover {area_old:e} m², new faces {area_new:e} m² ({} new vertices)",
                 edit.new_vertices.len()
-            ));
+            )));
         }
-        Ok(())
+        Ok(new_dir)
     }
 
     /// No edge with three faces or inconsistent orientation against the kept mesh, and a single fan
     /// around every vertex of a new face.
     fn check_local_conformity(
         &self,
-        removed: &BTreeSet<FaceId>,
+        removed: &[FaceId],
         added: &[[Key; 3]],
+        new_dir: &[(Key, Key)],
     ) -> Result<(), EditError> {
         let conf =
             |rule: Rule, at: String| Err(EditError::Conformity(ConformityError { rule, at }));
@@ -389,7 +426,7 @@ impl Mesh {
                     continue;
                 };
                 let Some(ef) = self.edge(a, b) else { continue };
-                for g in ef.iter().filter(|g| !removed.contains(g)) {
+                for g in ef.iter().filter(|g| removed.binary_search(g).is_err()) {
                     if has_directed(self.face(g), a, b) {
                         return conf(
                             Rule::Orientation,
@@ -399,10 +436,10 @@ impl Mesh {
                             ),
                         );
                     }
-                    // A kept face b->a is fine only when no other new face also uses a-b.
-                    let twice = added.iter().enumerate().any(|(j, o)| {
-                        j != i && o.contains(&Key::Old(a)) && o.contains(&Key::Old(b))
-                    });
+                    // A kept face b->a is fine only when no other new face also uses a-b (another
+                    // new face traversing a->b was refused by the tiling check, so it would
+                    // traverse b->a).
+                    let twice = new_dir.binary_search(&(keys[(k + 1) % 3], keys[k])).is_ok();
                     if twice || ef.extra > 0 {
                         return conf(
                             Rule::EdgeFaceCount,
@@ -412,26 +449,27 @@ impl Mesh {
                 }
             }
         }
-        let mut touched: BTreeSet<Key> = BTreeSet::new();
-        for keys in added {
-            touched.extend(keys.iter().copied());
-        }
+        // Every new face's wedge at each of its corners, grouped by corner in face order.
+        let mut corners: Vec<(Key, (Key, Key))> = added
+            .iter()
+            .flat_map(|&keys| keys.map(|v| (v, wedge(keys, v))))
+            .collect();
+        corners.sort_by_key(|&(v, _)| v);
         let mut wedges = Vec::new();
-        for &v in &touched {
+        for group in corners.chunk_by(|a, b| a.0 == b.0) {
+            let v = group[0].0;
             wedges.clear();
             if let Key::Old(ov) = v {
                 for &f in self
                     .vertex_faces(ov)
                     .iter()
-                    .filter(|f| !removed.contains(f))
+                    .filter(|f| removed.binary_search(f).is_err())
                 {
                     let vs = self.face(f).map(Key::Old);
                     wedges.push(wedge(vs, v));
                 }
             }
-            for keys in added.iter().filter(|k| k.contains(&v)) {
-                wedges.push(wedge(*keys, v));
-            }
+            wedges.extend(group.iter().map(|&(_, w)| w));
             if let Err(why) = single_fan(&wedges) {
                 return conf(Rule::NonManifoldVertex, format!("vertex {v:?}: {why}"));
             }
@@ -448,6 +486,13 @@ const AREA_EDIT_REL_TOL: Real = 1e-12;
 enum Key {
     Old(VertexId),
     New(usize),
+}
+
+/// `items` sorted, each once.
+fn sorted_unique<T: Ord>(mut items: Vec<T>) -> Vec<T> {
+    items.sort_unstable();
+    items.dedup();
+    items
 }
 
 fn resolve(r: VertexRef, new_ids: &[VertexId]) -> VertexId {

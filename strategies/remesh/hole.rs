@@ -43,82 +43,153 @@ pub(super) struct HoleMesh {
     pub triangles: Vec<[usize; 3]>,
 }
 
-/// Meshes the region enclosed by the directed border `constraints` (indices into `fixed`, the hole
-/// on their left; several loops allowed: a point is inside when its crossing parity is odd).
-/// Every fixed point must be used; new points lie strictly inside the hole.
-pub(super) fn mesh_hole(
-    fixed: &[Vec2],
-    constraints: &[[usize; 2]],
-    hints: &[Vec2],
-    p: &HoleParams,
-) -> Result<HoleMesh, RemeshError> {
-    let fail = |why: String| RemeshError::Mesher(why);
-    if !(p.spacing.is_finite() && p.spacing > 0.0) {
-        return Err(fail(format!(
-            "target spacing {} is not positive",
-            p.spacing
-        )));
+/// The hole mesher of one region's attempts. It remembers its last meshing when spade's
+/// refinement added no vertex to it: asked again with the same fixed points, border and seeds,
+/// and an area limit no triangle's area lies between (spade asks of each triangle only whether
+/// its area exceeds the limit and whether it is skinny), the refinement would do what it did,
+/// nothing, so the last mesh is returned without meshing. A region that cannot be simplified
+/// is asked up to `max_attempts` times, each coarser, with nothing changed but the limit.
+#[derive(Default)]
+pub(super) struct HoleMesher {
+    last: Option<Unrefined>,
+}
+
+/// A meshing to which the refinement added no vertex, and what it was made from.
+struct Unrefined {
+    fixed: Vec<Vec2>,
+    constraints: Vec<[usize; 2]>,
+    seeds: Vec<Vec2>,
+    max_area: Real,
+    /// spade's area of every triangle the refinement weighed (the faces it did not exclude).
+    areas: Vec<Real>,
+    mesh: HoleMesh,
+}
+
+impl Unrefined {
+    /// True when meshing this input under `max_area` would give `self.mesh` again.
+    fn repeats(
+        &self,
+        fixed: &[Vec2],
+        constraints: &[[usize; 2]],
+        seeds: &[Vec2],
+        max_area: Real,
+    ) -> bool {
+        same_points(&self.fixed, fixed)
+            && self.constraints == constraints
+            && same_points(&self.seeds, seeds)
+            && self
+                .areas
+                .iter()
+                .all(|&a| (a > self.max_area) == (a > max_area))
     }
-    let mut points: Vec<Point2<Real>> = fixed.iter().map(|q| Point2::new(q.x, q.y)).collect();
-    let seeds = lattice_seeds(fixed, constraints, hints, p);
-    points.extend(seeds.iter().map(|q| Point2::new(q.x, q.y)));
-    let n_input = points.len();
-    let mut cdt = ConstrainedDelaunayTriangulation::<Point2<Real>>::bulk_load_cdt(
-        points,
-        constraints.to_vec(),
-    )
-    .map_err(|e| fail(format!("spade could not load the hole: {e:?}")))?;
-    if cdt.num_vertices() != n_input {
-        return Err(fail("duplicate points in the hole border".into()));
-    }
-    let max_area = p.area_slack * Real::sqrt(3.0) / 4.0 * p.spacing * p.spacing;
-    let result = cdt.refine(
-        RefinementParameters::new()
-            .with_max_allowed_area(max_area)
-            .with_angle_limit(AngleLimit::from_deg(p.angle_limit_deg))
-            .with_max_additional_vertices(p.max_refinement_vertices)
-            .keep_constraint_edges()
-            .exclude_outer_faces(true),
-    );
-    let excluded: BTreeSet<usize> = result.excluded_faces.iter().map(|f| f.index()).collect();
-    let all: Vec<Vec2> = cdt
-        .vertices()
-        .map(|v| Vec2::new(v.position().x, v.position().y))
-        .collect();
-    let mut triangles: Vec<[usize; 3]> = cdt
-        .inner_faces()
-        .filter(|f| !excluded.contains(&f.fix().index()))
-        .map(|f| f.vertices().map(|v| v.fix().index()))
-        .collect();
-    // Compact: keep the fixed points, then the new points some triangle uses, in spade's order.
-    let mut used = vec![false; all.len()];
-    for t in &triangles {
-        for &i in t {
-            used[i] = true;
+}
+
+/// Bit-for-bit equal point lists.
+fn same_points(a: &[Vec2], b: &[Vec2]) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .zip(b)
+            .all(|(p, q)| p.x.to_bits() == q.x.to_bits() && p.y.to_bits() == q.y.to_bits())
+}
+
+impl HoleMesher {
+    /// Meshes the region enclosed by the directed border `constraints` (indices into `fixed`,
+    /// the hole on their left; several loops allowed: a point is inside when its crossing parity
+    /// is odd). Every fixed point must be used; new points lie strictly inside the hole. The same
+    /// input always gets the same mesh, remembered or not.
+    pub(super) fn mesh(
+        &mut self,
+        fixed: &[Vec2],
+        constraints: &[[usize; 2]],
+        hints: &[Vec2],
+        p: &HoleParams,
+    ) -> Result<HoleMesh, RemeshError> {
+        let fail = |why: String| RemeshError::Mesher(why);
+        if !(p.spacing.is_finite() && p.spacing > 0.0) {
+            return Err(fail(format!(
+                "target spacing {} is not positive",
+                p.spacing
+            )));
         }
-    }
-    if let Some(i) = (0..fixed.len()).find(|&i| !used[i]) {
-        return Err(fail(format!(
-            "border point {i} is outside every new triangle"
-        )));
-    }
-    let mut map = vec![usize::MAX; all.len()];
-    let mut out = Vec::with_capacity(all.len());
-    for (i, q) in all.iter().enumerate() {
-        if i < fixed.len() || used[i] {
-            map[i] = out.len();
-            out.push(if i < fixed.len() { fixed[i] } else { *q });
+        let seeds = lattice_seeds(fixed, constraints, hints, p);
+        let max_area = p.area_slack * Real::sqrt(3.0) / 4.0 * p.spacing * p.spacing;
+        if let Some(last) = &self.last {
+            if last.repeats(fixed, constraints, &seeds, max_area) {
+                return Ok(last.mesh.clone());
+            }
         }
+        self.last = None;
+        let mut points: Vec<Point2<Real>> = fixed.iter().map(|q| Point2::new(q.x, q.y)).collect();
+        points.extend(seeds.iter().map(|q| Point2::new(q.x, q.y)));
+        let n_input = points.len();
+        let mut cdt = ConstrainedDelaunayTriangulation::<Point2<Real>>::bulk_load_cdt(
+            points,
+            constraints.to_vec(),
+        )
+        .map_err(|e| fail(format!("spade could not load the hole: {e:?}")))?;
+        if cdt.num_vertices() != n_input {
+            return Err(fail("duplicate points in the hole border".into()));
+        }
+        let result = cdt.refine(
+            RefinementParameters::new()
+                .with_max_allowed_area(max_area)
+                .with_angle_limit(AngleLimit::from_deg(p.angle_limit_deg))
+                .with_max_additional_vertices(p.max_refinement_vertices)
+                .keep_constraint_edges()
+                .exclude_outer_faces(true),
+        );
+        let excluded: BTreeSet<usize> = result.excluded_faces.iter().map(|f| f.index()).collect();
+        let kept = || {
+            cdt.inner_faces()
+                .filter(|f| !excluded.contains(&f.fix().index()))
+        };
+        let all: Vec<Vec2> = cdt
+            .vertices()
+            .map(|v| Vec2::new(v.position().x, v.position().y))
+            .collect();
+        let mut triangles: Vec<[usize; 3]> = kept()
+            .map(|f| f.vertices().map(|v| v.fix().index()))
+            .collect();
+        // Compact: keep the fixed points, then the new points some triangle uses, in spade's order.
+        let mut used = vec![false; all.len()];
+        for t in &triangles {
+            for &i in t {
+                used[i] = true;
+            }
+        }
+        if let Some(i) = (0..fixed.len()).find(|&i| !used[i]) {
+            return Err(fail(format!(
+                "border point {i} is outside every new triangle"
+            )));
+        }
+        let mut map = vec![usize::MAX; all.len()];
+        let mut out = Vec::with_capacity(all.len());
+        for (i, q) in all.iter().enumerate() {
+            if i < fixed.len() || used[i] {
+                map[i] = out.len();
+                out.push(if i < fixed.len() { fixed[i] } else { *q });
+            }
+        }
+        for t in &mut triangles {
+            *t = t.map(|i| map[i]);
+        }
+        let mut mesh = HoleMesh {
+            points: out,
+            triangles,
+        };
+        smooth(&mut mesh, fixed.len(), p.smoothing_passes);
+        if cdt.num_vertices() == n_input {
+            self.last = Some(Unrefined {
+                fixed: fixed.to_vec(),
+                constraints: constraints.to_vec(),
+                seeds,
+                max_area,
+                areas: kept().map(|f| f.area()).collect(),
+                mesh: mesh.clone(),
+            });
+        }
+        Ok(mesh)
     }
-    for t in &mut triangles {
-        *t = t.map(|i| map[i]);
-    }
-    let mut mesh = HoleMesh {
-        points: out,
-        triangles,
-    };
-    smooth(&mut mesh, fixed.len(), p.smoothing_passes);
-    Ok(mesh)
 }
 
 /// Hint points closer than this multiple of the spacing to the border are dropped.
@@ -343,6 +414,45 @@ mod tests {
                 prop_assert_eq!(grid.any_within(q), scan);
             }
         }
+
+        /// A mesher that meshed a hole before gives, at every spacing of the retries (coarser and
+        /// denser, the area limit crossing triangles' areas or not), the mesh a fresh mesher
+        /// gives, point for point and triangle for triangle: remembering never changes a plan.
+        #[test]
+        fn a_remembered_mesh_is_the_mesh_a_fresh_mesher_makes(
+            radii in prop::collection::vec(0.5..1.0f64, 3..9),
+            hint in prop::option::of((-0.2..0.2f64, -0.2..0.2f64)),
+            spacing in 0.3..3.0f64,
+            factors in prop::collection::vec(
+                prop::sample::select(vec![1.0 / 1.2, 1.0, 1.2, 1.44]), 1..8),
+        ) {
+            // A star-shaped polygon (counter-clockwise, the hole on its left).
+            let n = radii.len();
+            let fixed: Vec<Vec2> = radii
+                .iter()
+                .enumerate()
+                .map(|(k, r)| {
+                    let a = 2.0 * std::f64::consts::PI * k as Real / n as Real;
+                    Vec2::new(r * a.cos(), r * a.sin())
+                })
+                .collect();
+            let c: Vec<[usize; 2]> = (0..n).map(|i| [i, (i + 1) % n]).collect();
+            let hints: Vec<Vec2> = hint.map(|(x, y)| Vec2::new(x, y)).into_iter().collect();
+            let mut remembering = HoleMesher::default();
+            let mut h = spacing;
+            for f in factors {
+                h *= f;
+                let again = remembering.mesh(&fixed, &c, &hints, &params(h));
+                let fresh = HoleMesher::default().mesh(&fixed, &c, &hints, &params(h));
+                match (again, fresh) {
+                    (Ok(a), Ok(b)) => {
+                        prop_assert!(same_points(&a.points, &b.points));
+                        prop_assert_eq!(a.triangles, b.triangles);
+                    }
+                    (a, b) => prop_assert_eq!(a.is_ok(), b.is_ok()),
+                }
+            }
+        }
     }
 
     fn params(spacing: Real) -> HoleParams {
@@ -404,7 +514,9 @@ mod tests {
             }
         }
         let c: Vec<[usize; 2]> = (0..20).map(|i| [i, (i + 1) % 20]).collect();
-        let m = mesh_hole(&fixed, &c, &[], &params(0.2)).unwrap();
+        let m = HoleMesher::default()
+            .mesh(&fixed, &c, &[], &params(0.2))
+            .unwrap();
         // About 1 / (0.2² sqrt(3)/4) = 58 triangles, so around 10 interior points.
         assert!(m.points.len() >= 26, "{}", m.points.len());
         for t in &m.triangles {
@@ -441,7 +553,9 @@ mod tests {
             [6, 7],
             [7, 4],
         ];
-        let m = mesh_hole(&fixed, &c, &[], &params(0.5)).unwrap();
+        let m = HoleMesher::default()
+            .mesh(&fixed, &c, &[], &params(0.5))
+            .unwrap();
         assert!((area(&m) - 8.0).abs() < 1e-12, "{}", area(&m));
     }
 }

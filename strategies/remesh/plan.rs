@@ -2,7 +2,7 @@
 //! §8.2 steps 3-6). Nothing here changes the mesh; [`super::remesh_region`] applies the
 //! plan through the checked edit.
 
-use super::hole::{mesh_hole, min_angle, HoleMesh, HoleParams};
+use super::hole::{min_angle, HoleMesh, HoleMesher, HoleParams};
 use super::region::{hole_border, interior_vertices, BorderEdge};
 use super::{Mode, RemeshError, RemeshParams, RemeshStats};
 use crate::math::{signed_area, Real, Vec2};
@@ -89,10 +89,11 @@ pub fn plan_region(
         Mode::Simplify => Vec::new(),
     };
     let mut last = "no attempt";
+    let mut mesher = HoleMesher::default();
     for attempt in 1..=params.max_attempts {
         let (fixed, constraints) = hole_input(mesh, &border, &pinned, mode, spacing, params);
         let points: Vec<Vec2> = fixed.iter().map(|p| position(mesh, *p)).collect();
-        let hole = mesh_hole(
+        let hole = mesher.mesh(
             &points,
             &constraints,
             &hints,
