@@ -76,6 +76,10 @@ pub(crate) fn is_positive_triangle(a: Vec2, b: Vec2, c: Vec2) -> bool {
     area.is_finite() && l2.is_finite() && area > MIN_AREA_RATIO * l2
 }
 
+/// Fans up to this many wedges are checked by scanning them (no allocation); larger ones through
+/// sorted copies.
+const SMALL_FAN: usize = 16;
+
 /// Checks that the wedges `x -> y` of the faces around one vertex (each face rotated so the vertex
 /// comes first) form a single fan: one cycle (interior vertex) or one open chain (border vertex).
 /// Assumes at most two faces per edge and consistent orientation; says why not otherwise.
@@ -85,24 +89,56 @@ pub(crate) fn single_fan<K: Copy + Ord>(wedges: &[(K, K)]) -> Result<(), String>
     if n == 0 {
         return Err("no faces".into());
     }
+    if n <= SMALL_FAN {
+        scanned_fan(wedges)
+    } else {
+        sorted_fan(wedges)
+    }
+}
+
+/// [`single_fan`] by scanning the wedges: O(n²), no allocation.
+fn scanned_fan<K: Copy + Ord>(wedges: &[(K, K)]) -> Result<(), String> {
+    walk_fan(
+        wedges,
+        |k| wedges.iter().position(|w| w.0 == k),
+        |k| wedges.iter().any(|w| w.1 == k),
+    )
+}
+
+/// [`single_fan`] through sorted copies of the wedges: O(n log n).
+fn sorted_fan<K: Copy + Ord>(wedges: &[(K, K)]) -> Result<(), String> {
+    let n = wedges.len();
     // Wedge indices sorted by their first neighbour, and the sorted second neighbours.
     let mut by_first: Vec<usize> = (0..n).collect();
     by_first.sort_by_key(|&i| (wedges[i].0, i));
     let mut ends: Vec<K> = wedges.iter().map(|w| w.1).collect();
     ends.sort_unstable();
-    // The first wedge (smallest index) starting at `k`.
-    let starting_at = |k: K| {
-        let p = by_first.partition_point(|&i| wedges[i].0 < k);
-        by_first.get(p).copied().filter(|&i| wedges[i].0 == k)
-    };
+    walk_fan(
+        wedges,
+        |k| {
+            let p = by_first.partition_point(|&i| wedges[i].0 < k);
+            by_first.get(p).copied().filter(|&i| wedges[i].0 == k)
+        },
+        |k| ends.binary_search(&k).is_ok(),
+    )
+}
+
+/// The walk of [`single_fan`], given `starting_at(k)`, the first wedge (smallest index) whose
+/// first neighbour is `k`, and `is_end(k)`, whether `k` is some wedge's second neighbour.
+fn walk_fan<K: Copy + Ord>(
+    wedges: &[(K, K)],
+    starting_at: impl Fn(K) -> Option<usize>,
+    is_end: impl Fn(K) -> bool,
+) -> Result<(), String> {
+    let n = wedges.len();
     // A chain start: a wedge whose first neighbour ends no wedge.
-    let starts: Vec<usize> = (0..n)
-        .filter(|&i| ends.binary_search(&wedges[i].0).is_err())
-        .collect();
-    if starts.len() > 1 {
-        return Err(format!("{} separate fans of faces", starts.len()));
+    let mut starts = (0..n).filter(|&i| !is_end(wedges[i].0));
+    let first = starts.next();
+    let more = starts.count();
+    if more > 0 {
+        return Err(format!("{} separate fans of faces", more + 1));
     }
-    let first = starts.first().copied().unwrap_or(0);
+    let first = first.unwrap_or(0);
     let mut visited = 1;
     let mut cur = wedges[first].1;
     while visited < n {
@@ -353,6 +389,17 @@ pub(crate) fn broken_mesh(rest: &[[Real; 2]], faces: &[[u32; 3]]) -> Mesh {
 mod tests {
     use super::*;
     use crate::mesh::{disk, union_jack};
+
+    proptest::proptest! {
+        /// Both ways of checking a fan give the same answer, word for word, on any wedges (fans,
+        /// chains, several fans, repeated neighbours).
+        #[test]
+        fn scanning_and_sorting_check_fans_alike(
+            wedges in proptest::collection::vec((0u8..8, 0u8..8), 1..=SMALL_FAN),
+        ) {
+            proptest::prop_assert_eq!(scanned_fan(&wedges), sorted_fan(&wedges));
+        }
+    }
 
     fn rule_of(m: &Mesh) -> Rule {
         m.check().expect_err("mesh should be rejected").rule

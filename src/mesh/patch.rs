@@ -33,21 +33,24 @@ impl Mesh {
         faces.sort_unstable();
         faces.dedup();
         let mut complete: Vec<VertexId> = core.iter().copied().collect();
+        let mut wedges: Vec<(VertexId, VertexId)> = Vec::new();
         loop {
-            let vertices = sorted_vertices(self, &faces);
-            let split: Vec<VertexId> = vertices
-                .into_iter()
-                .filter(|v| complete.binary_search(v).is_err())
-                .filter(|&v| {
-                    let wedges: Vec<(VertexId, VertexId)> = self
-                        .vertex_faces(v)
+            let mut split = Vec::new();
+            for v in sorted_vertices(self, &faces) {
+                if complete.binary_search(&v).is_ok() {
+                    continue;
+                }
+                wedges.clear();
+                wedges.extend(
+                    self.vertex_faces(v)
                         .iter()
                         .filter(|f| faces.binary_search(f).is_ok())
-                        .map(|&f| wedge(self.face(f), v))
-                        .collect();
-                    single_fan(&wedges).is_err()
-                })
-                .collect();
+                        .map(|&f| wedge(self.face(f), v)),
+                );
+                if single_fan(&wedges).is_err() {
+                    split.push(v);
+                }
+            }
             if split.is_empty() {
                 break;
             }
