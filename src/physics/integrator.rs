@@ -78,6 +78,9 @@ pub struct StepStats {
     /// True when conjugate gradients ended above their tolerance and sparse Cholesky solved the
     /// step again (`integrator.solver = "auto"`); `cg_iterations` are CG's.
     pub direct_rescue: bool,
+    /// True when conjugate gradients converged but slowly for the run of steps after which
+    /// `integrator.solver = "auto"` solves the next steps by sparse Cholesky.
+    pub slow_switch: bool,
 }
 
 /// A time integrator over `(x, v)`.

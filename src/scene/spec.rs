@@ -277,8 +277,10 @@ pub enum LinearSolver {
     /// factorisation fails, counted in `solver_fallbacks` of summary.json).
     Cholesky,
     /// Conjugate gradients; a step whose CG ends above `cg_tolerance` (at `cg_max_iterations`,
-    /// or broken down) is solved again by Cholesky (counted in `cholesky_rescues` of summary.json), and the next 8 steps go straight
-    /// to Cholesky, a window that doubles with each rescue (up to 1024 steps).
+    /// or broken down) is solved again by Cholesky (counted in `cholesky_rescues` of
+    /// summary.json), and the next 8 steps go straight to Cholesky, a window that doubles with
+    /// each rescue (up to 1024 steps). 24 consecutive CG solves of one mesh above 3.5
+    /// `sqrt(slots)` iterations open such a window too (`cholesky_switches`).
     #[default]
     Auto,
 }

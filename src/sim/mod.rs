@@ -111,6 +111,9 @@ pub struct SolveCounts {
     /// Steps whose CG ended above its tolerance and that Cholesky solved again
     /// ([`StepStats::direct_rescue`]).
     pub rescues: u64,
+    /// Steps after which `auto` went to Cholesky because CG had been slow
+    /// ([`StepStats::slow_switch`]).
+    pub switches: u64,
 }
 
 /// A material point tracked through the run.
@@ -628,6 +631,7 @@ impl Simulation {
     fn count_solve(&mut self, stats: &StepStats) -> Result<(), StepError> {
         self.solves.fallbacks += u64::from(stats.solver_fallback);
         self.solves.rescues += u64::from(stats.direct_rescue);
+        self.solves.switches += u64::from(stats.slow_switch);
         if !stats.unconverged {
             return Ok(());
         }

@@ -101,6 +101,10 @@ pub struct RunSummary {
     /// Steps whose CG ended above its tolerance and that Cholesky solved again
     /// (`integrator.solver = "auto"`).
     pub cholesky_rescues: u64,
+    /// Windows of steps that `integrator.solver = "auto"` solved by Cholesky because CG had
+    /// converged slowly (more than 3.5 `sqrt(slots)` iterations on 24 consecutive steps of one
+    /// mesh).
+    pub cholesky_switches: u64,
     /// What self-collision did, when `collision.self = true`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub self_contact: Option<crate::collision::SelfContactTotals>,
@@ -286,6 +290,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         cg_unconverged: sim.solves.unconverged,
         solver_fallbacks: sim.solves.fallbacks,
         cholesky_rescues: sim.solves.rescues,
+        cholesky_switches: sim.solves.switches,
         self_contact: sim
             .scene
             .collision

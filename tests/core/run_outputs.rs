@@ -55,6 +55,7 @@ fn unconverged_solves_are_counted_warned_about_once_or_fail_the_run() {
     assert!(!err.contains("warning"), "{err}");
     assert_eq!(summary(&fine)["cg_unconverged"], 0);
     assert_eq!(summary(&fine)["cholesky_rescues"], 0);
+    assert_eq!(summary(&fine)["cholesky_switches"], 0);
     assert!(unconverged_column(&fine).iter().all(|&c| c == 0));
 
     let capped = dir.path().join("capped");

@@ -22,14 +22,43 @@ use faer::sparse::{FaerError, SymbolicSparseColMatRef};
 /// Pairs `(k, l)` of an element's four vertices, each coupling block of a bending element.
 const BEND_PAIRS: [(usize, usize); 6] = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3)];
 
-/// The lower-triangular pattern of `A_f` for one topology, in scalar and in block form.
-#[derive(Clone, Debug, PartialEq)]
-pub(super) struct Pattern {
-    /// The topology it was built for: slot count, spring ends, bending elements.
+/// A model's topology: its slot count, spring ends and bending elements, in order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct Topology {
     slots: usize,
     spring_a: Vec<u32>,
     spring_b: Vec<u32>,
     bends: Vec<[u32; 4]>,
+}
+
+impl Topology {
+    /// The topology of `model`.
+    pub(super) fn of(model: &ForceModel) -> Topology {
+        let sp = model.springs();
+        Topology {
+            slots: model.mass().len(),
+            spring_a: sp.a.clone(),
+            spring_b: sp.b.clone(),
+            bends: model.bends().v.clone(),
+        }
+    }
+
+    /// True when `model` has this topology (same slots, springs and bending elements, in the
+    /// same order).
+    pub(super) fn fits(&self, model: &ForceModel) -> bool {
+        let sp = model.springs();
+        self.slots == model.mass().len()
+            && self.spring_a == sp.a
+            && self.spring_b == sp.b
+            && self.bends == model.bends().v
+    }
+}
+
+/// The lower-triangular pattern of `A_f` for one topology, in scalar and in block form.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct Pattern {
+    /// The topology it was built for.
+    topology: Topology,
     /// Per slot, its place in the elimination order (block row and column).
     position: Vec<usize>,
     /// Per place in the elimination order, its slot (the inverse of `position`).
@@ -113,12 +142,9 @@ impl Pattern {
             }
         }
         Ok(Pattern {
-            slots,
+            topology: Topology::of(model),
             position,
             slot_at,
-            spring_a: sp.a.clone(),
-            spring_b: sp.b.clone(),
-            bends: bends.clone(),
             block_ptr,
             block_row,
             spring_block,
@@ -128,14 +154,9 @@ impl Pattern {
         })
     }
 
-    /// True when `model` has the topology this pattern was built for (same slots, springs and
-    /// bending elements, in the same order).
+    /// True when `model` has the topology this pattern was built for.
     pub(super) fn fits(&self, model: &ForceModel) -> bool {
-        let sp = model.springs();
-        self.slots == model.mass().len()
-            && self.spring_a == sp.a
-            && self.spring_b == sp.b
-            && self.bends == model.bends().v
+        self.topology.fits(model)
     }
 
     /// The place of `slot` in the elimination order: its scalar rows are `3 p..3 p + 3`.
@@ -145,7 +166,7 @@ impl Pattern {
 
     /// Number of scalar rows (and columns): three per slot.
     pub(super) fn dim(&self) -> usize {
-        3 * self.slots
+        3 * self.topology.slots
     }
 
     /// Writes the lower triangle of `system`'s `A_f` (kg) into `values` (one per entry of
@@ -177,7 +198,7 @@ impl Pattern {
         let fixed = |i: usize| model.inv_mass()[i] == 0.0;
         values.clear();
         values.resize(self.row_idx.len(), 0.0);
-        for c in 0..self.slots {
+        for c in 0..self.topology.slots {
             let range = self.block_ptr[c]..self.block_ptr[c + 1];
             let slot = self.slot_at[c];
             for k in 0..3 {

@@ -32,7 +32,12 @@
 //!   tolerance (at its cap, or broken down) again by Cholesky ([`StepStats::direct_rescue`]); the
 //!   next [`AUTO_FIRST_WINDOW`] steps then go straight to Cholesky, a window that doubles with
 //!   every rescue (up to [`AUTO_MAX_WINDOW`]), before CG is tried again. Every step is thus
-//!   solved to tolerance unless the factorisation fails too, at CG's cost where CG converges.
+//!   solved to tolerance unless the factorisation fails too. Where CG converges but slowly
+//!   (more than [`AUTO_SLOW_ITERATIONS`] `sqrt(slots)` iterations on [`AUTO_SLOW_STEPS`]
+//!   consecutive steps of one topology: a CG step costs its iterations times the slots, a
+//!   factorisation of a cloth grows like `slots^1.5`, and measured here the two cost the same
+//!   near 2 `sqrt(slots)` iterations) a window opens the same way ([`StepStats::slow_switch`]).
+//!   The rule counts iterations, never time, so a run is reproducible.
 //!
 //! Without a [`crate::physics::ForceModel`] behind the dynamics (no Jacobians), the matrix is `M`
 //! and the scheme reduces to symplectic Euler.
@@ -49,6 +54,7 @@ mod tests;
 use super::{fit, Dynamics, Integrator, Step, StepStats};
 use crate::math::{Real, Vec3};
 use crate::physics::{IntegratorParams, LinearSolver};
+use assembly::Topology;
 use cg::Cg;
 use cholesky::Cholesky;
 use std::sync::atomic::AtomicBool;
@@ -61,6 +67,15 @@ pub const AUTO_FIRST_WINDOW: u32 = 8;
 /// Longest such window (steps): a run whose CG keeps failing retries it at least this often.
 pub const AUTO_MAX_WINDOW: u32 = 1024;
 
+/// A converged CG solve is slow for `auto` above this many iterations per `sqrt(slots)`
+/// (dimensionless): about 1.75 times the break-even with a factorisation measured on the sphere
+/// at 289 to 4,225 vertices (docs/performance.md, "Which solver is the default"), where the
+/// static grids of docs/results.md stay below 2.6.
+pub const AUTO_SLOW_ITERATIONS: Real = 3.5;
+
+/// Consecutive slow CG solves of one topology after which `auto` opens a Cholesky window.
+pub const AUTO_SLOW_STEPS: u32 = 24;
+
 /// Linearised backward Euler, solved by conjugate gradients or sparse Cholesky.
 #[derive(Debug)]
 pub struct ImplicitEuler {
@@ -68,6 +83,9 @@ pub struct ImplicitEuler {
     /// `auto`: steps left to solve straight by Cholesky, and the window the next rescue opens.
     direct_steps_left: u32,
     next_window: u32,
+    /// `auto`: consecutive slow converged CG solves, all on `slow_topology`.
+    slow_streak: u32,
+    slow_topology: Topology,
     /// Set when the run is interrupted: CG stops at its next check.
     interrupt: Option<Arc<AtomicBool>>,
     system: System,
@@ -85,6 +103,8 @@ impl ImplicitEuler {
             solver: params.solver,
             direct_steps_left: 0,
             next_window: AUTO_FIRST_WINDOW,
+            slow_streak: 0,
+            slow_topology: Topology::default(),
             interrupt: None,
             system: System::default(),
             cg: Cg::new(params.cg_tolerance, params.cg_max_iterations),
@@ -164,10 +184,13 @@ impl ImplicitEuler {
             LinearSolver::Auto => {
                 let cg = self.solve_cg(model);
                 if !cg.unconverged {
-                    return cg;
+                    let slow_switch = self.slow_streak_ends(model, cg.cg_iterations);
+                    if slow_switch {
+                        self.open_direct_window();
+                    }
+                    return StepStats { slow_switch, ..cg };
                 }
-                self.direct_steps_left = self.next_window;
-                self.next_window = (2 * self.next_window).min(AUTO_MAX_WINDOW);
+                self.open_direct_window();
                 let direct = self.solve_direct(model);
                 if direct.solver_fallback {
                     // The factorisation failed too: the step is CG's again, unconverged.
@@ -180,6 +203,30 @@ impl ImplicitEuler {
                 }
             }
         }
+    }
+
+    /// `auto`: the next steps go straight to Cholesky, for a window twice as long as the last.
+    fn open_direct_window(&mut self) {
+        self.direct_steps_left = self.next_window;
+        self.next_window = (2 * self.next_window).min(AUTO_MAX_WINDOW);
+    }
+
+    /// `auto`: counts a converged CG solve of `iterations` on `model` in the streak of slow ones
+    /// (more than [`AUTO_SLOW_ITERATIONS`] `sqrt(slots)`, all on one topology; a new topology
+    /// starts a new streak); true when the streak has [`AUTO_SLOW_STEPS`] solves or more (it is
+    /// kept through the window, so one more slow solve after it opens the next).
+    fn slow_streak_ends(&mut self, model: &crate::physics::ForceModel, iterations: usize) -> bool {
+        if !self.slow_topology.fits(model) {
+            self.slow_topology = Topology::of(model);
+            self.slow_streak = 0;
+        }
+        let slots = model.mass().len() as Real;
+        if iterations as Real > AUTO_SLOW_ITERATIONS * slots.sqrt() {
+            self.slow_streak += 1;
+        } else {
+            self.slow_streak = 0;
+        }
+        self.slow_streak >= AUTO_SLOW_STEPS
     }
 
     /// Solves the built system by CG from `dv = 0`.

@@ -1,10 +1,10 @@
 //! `implicit_euler` with its solvers: convergence, agreement of CG and Cholesky, the kept
-//! symbolic analysis, the fallback to CG, `auto`'s rescues and windows, the interrupt.
+//! symbolic analysis, the fallback to CG, `auto`'s rescues, switches and windows, the interrupt.
 
 use super::cg::Cg;
 use super::cholesky::Cholesky;
 use super::system::System;
-use super::{ImplicitEuler, AUTO_FIRST_WINDOW};
+use super::{ImplicitEuler, AUTO_FIRST_WINDOW, AUTO_SLOW_ITERATIONS, AUTO_SLOW_STEPS};
 use crate::math::{Real, Vec3};
 use crate::mesh::{union_jack, VertexId};
 use crate::physics::{
@@ -237,5 +237,105 @@ fn auto_is_cg_where_cg_converges_and_rescues_capped_solves_with_cholesky() {
         norm(&diff) <= 1e-9 * norm(&xd),
         "auto's rescued run lands where Cholesky's does: {:e} m",
         norm(&diff)
+    );
+}
+
+/// `auto` where CG converges, but slowly (the stiff sheet needs more than
+/// `AUTO_SLOW_ITERATIONS sqrt(slots)` iterations at every step): the first `AUTO_SLOW_STEPS`
+/// steps are CG's, bit for bit; the last of them opens a window of `AUTO_FIRST_WINDOW` steps
+/// solved by Cholesky (no CG iteration), after which one slow CG solve opens the next window. A topology met between two slow solves (the same sheet without its bending elements)
+/// starts the count again, so alternating topologies never switch.
+#[test]
+fn auto_goes_to_cholesky_after_a_streak_of_slow_cg_solves_on_one_topology() {
+    let (model, x0, v0, dt) = stiff_sheet(SpringMode::Tension);
+    let slow = AUTO_SLOW_ITERATIONS * (model.mass().len() as Real).sqrt();
+    let (streak, window) = (AUTO_SLOW_STEPS as usize, AUTO_FIRST_WINDOW as usize);
+    let steps = streak + window + 1;
+    let run = |solver| {
+        let mut integ = implicit(solver);
+        let (mut x, mut v) = (x0.clone(), v0.clone());
+        let stats: Vec<_> = (0..steps)
+            .map(|k| integ.step(&model, k as Real * dt, dt, &mut x, &mut v))
+            .collect();
+        (x, stats)
+    };
+    let (x_cg, cg) = run(LinearSolver::Cg);
+    assert!(
+        cg.iter()
+            .all(|s| !s.unconverged && s.cg_iterations as Real > slow),
+        "every CG solve converges above {slow} iterations: {cg:?}"
+    );
+    let (x_auto, auto) = run(LinearSolver::Auto);
+    let switched: Vec<usize> = (0..steps).filter(|&k| auto[k].slow_switch).collect();
+    let second = streak + window;
+    assert_eq!(switched, [streak - 1, second], "{auto:?}");
+    for (k, s) in auto.iter().enumerate() {
+        let by_cg = k < streak || k == second;
+        assert_eq!(s.cg_iterations > 0, by_cg, "step {k}: {s:?}");
+        assert!(!s.unconverged && !s.direct_rescue, "step {k}: {s:?}");
+    }
+    let iterations = |s: &[crate::physics::StepStats]| -> Vec<usize> {
+        s[..streak].iter().map(|s| s.cg_iterations).collect()
+    };
+    assert_eq!(iterations(&auto), iterations(&cg), "CG's solves first");
+    // The Cholesky steps solve the systems CG solves to its tolerance: auto ends no farther from
+    // CG's run than Cholesky's own run does.
+    let (x_direct, _) = run(LinearSolver::Cholesky);
+    let distance = |x: &[Vec3]| -> Real {
+        let d: Vec<Vec3> = x.iter().zip(&x_cg).map(|(a, b)| a - b).collect();
+        norm(&d)
+    };
+    let (from_auto, from_direct) = (distance(&x_auto), distance(&x_direct));
+    assert!(
+        from_auto <= from_direct,
+        "auto ends {from_auto:e} m from CG's run, Cholesky's {from_direct:e} m"
+    );
+
+    // Alternating topologies (the sheet with one cell's diagonal flipped): never a switch.
+    let flipped = {
+        let mut mesh = union_jack(6, 6, 1.0, 1.0);
+        mesh.set_pinned(VertexId(0), true);
+        let (e, f1, f2) = mesh
+            .edges()
+            .find_map(|(e, ef)| {
+                let long = (mesh.rest(e.0) - mesh.rest(e.1)).norm() > 0.25;
+                Some((e, ef.first, ef.second?)).filter(|_| long)
+            })
+            .expect("a cell diagonal");
+        let t1 = mesh.face(f1);
+        let forward = (0..3).any(|k| t1[k] == e.0 && t1[(k + 1) % 3] == e.1);
+        let (a, b) = if forward { (e.0, e.1) } else { (e.1, e.0) };
+        let third = |f| {
+            mesh.face(f)
+                .into_iter()
+                .find(|&w| w != a && w != b)
+                .unwrap()
+        };
+        let (c, d) = (third(f1), third(f2));
+        let old = crate::mesh::VertexRef::Old;
+        let edit = crate::mesh::Edit {
+            remove: vec![f1, f2],
+            new_vertices: Vec::new(),
+            add: vec![[old(a), old(d), old(c)], [old(d), old(b), old(c)]],
+        };
+        mesh.replace(&edit).expect("the flip is a valid edit");
+        let material = Material {
+            young: 1e9,
+            ..Material::default()
+        };
+        built(&mesh, &material, &Forces::default())
+    };
+    let mut integ = implicit(LinearSolver::Auto);
+    let (mut x, mut v) = (x0.clone(), v0.clone());
+    let mut slow_solves = 0;
+    for k in 0..2 * streak {
+        let m = if k % 2 == 0 { &model } else { &flipped };
+        let s = integ.step(m, k as Real * dt, dt, &mut x, &mut v);
+        assert!(!s.slow_switch, "step {k}: {s:?}");
+        slow_solves += usize::from(!s.unconverged && s.cg_iterations as Real > slow);
+    }
+    assert!(
+        slow_solves >= streak,
+        "{slow_solves} slow solves, enough for a switch on one mesh"
     );
 }
