@@ -154,11 +154,31 @@ pub fn study(args: StudyArgs) -> Result<(), CliError> {
         return references(&definition, &plans, &execution);
     }
     let done = run_plans(&definition, plans, &execution)?;
-    let command = match &args.file {
-        Some(file) => format!("adaptcloth study {}", file.display()),
-        None => "adaptcloth study".to_string(),
-    };
-    write_docs(args.docs.write_docs, &done, &command, notes)
+    write_docs(
+        args.docs.write_docs.clone(),
+        &done,
+        &study_command(&args),
+        notes,
+    )
+}
+
+/// The study command that writes the same docs: the file, `--jobs` (the wall times depend on
+/// it), `--write-docs` and `--docs-notes`.
+fn study_command(args: &StudyArgs) -> String {
+    let mut command = String::from("adaptcloth study");
+    if let Some(file) = &args.file {
+        command += &format!(" {}", file.display());
+    }
+    if args.execution.jobs > 1 {
+        command += &format!(" --jobs {}", args.execution.jobs);
+    }
+    if let Some(dir) = &args.docs.write_docs {
+        command += &format!(" --write-docs {}", dir.display());
+    }
+    if let Some(notes) = &args.docs.docs_notes {
+        command += &format!(" --docs-notes {}", notes.display());
+    }
+    command
 }
 
 /// `study --references-only`: each scene's reference in the cache, nothing else.
@@ -345,4 +365,38 @@ pub fn report(args: ReportArgs) -> Result<(), CliError> {
 /// `out/study-../../../../x`, which leaves the working folder.
 fn default_study_out(name: &str) -> PathBuf {
     PathBuf::from("out").join(format!("study-{}", crate::io::file_safe(name)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::study_command;
+    use crate::cli::args::{Cli, Command};
+    use clap::Parser;
+
+    /// The command a study names in results.md is one that writes the same page: its file, its
+    /// `--jobs`, `--write-docs` and `--docs-notes`, nothing that does not change the page.
+    #[test]
+    fn a_study_names_the_command_that_writes_its_docs() {
+        let named = |argv: &[&str]| match Cli::parse_from(argv).command {
+            Command::Study(args) => study_command(&args),
+            _ => unreachable!("a study command"),
+        };
+        assert_eq!(
+            named(&[
+                "adaptcloth",
+                "study",
+                "studies/results.toml",
+                "--jobs",
+                "2",
+                "--quiet",
+                "--write-docs",
+                "docs",
+                "--docs-notes",
+                "studies/results-notes.md",
+            ]),
+            "adaptcloth study studies/results.toml --jobs 2 --write-docs docs --docs-notes \
+             studies/results-notes.md"
+        );
+        assert_eq!(named(&["adaptcloth", "study"]), "adaptcloth study");
+    }
 }

@@ -190,6 +190,7 @@ impl ImplicitEuler {
                     }
                     return StepStats { slow_switch, ..cg };
                 }
+                self.slow_streak = 0;
                 self.open_direct_window();
                 let direct = self.solve_direct(model);
                 if direct.solver_fallback {
@@ -212,9 +213,11 @@ impl ImplicitEuler {
     }
 
     /// `auto`: counts a converged CG solve of `iterations` on `model` in the streak of slow ones
-    /// (more than [`AUTO_SLOW_ITERATIONS`] `sqrt(slots)`, all on one topology; a new topology
-    /// starts a new streak); true when the streak has [`AUTO_SLOW_STEPS`] solves or more (it is
-    /// kept through the window, so one more slow solve after it opens the next).
+    /// (more than [`AUTO_SLOW_ITERATIONS`] `sqrt(slots)`, all on one topology; a new topology or
+    /// a rescue starts a new streak); true when the streak has [`AUTO_SLOW_STEPS`] solves or more
+    /// (it is kept through the window, so one more slow solve after it opens the next). The
+    /// windows' length is shared with the rescues': each window, opened either way, doubles the
+    /// next.
     fn slow_streak_ends(&mut self, model: &crate::physics::ForceModel, iterations: usize) -> bool {
         if !self.slow_topology.fits(model) {
             self.slow_topology = Topology::of(model);

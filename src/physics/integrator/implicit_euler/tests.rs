@@ -243,8 +243,9 @@ fn auto_is_cg_where_cg_converges_and_rescues_capped_solves_with_cholesky() {
 /// `auto` where CG converges, but slowly (the stiff sheet needs more than
 /// `AUTO_SLOW_ITERATIONS sqrt(slots)` iterations at every step): the first `AUTO_SLOW_STEPS`
 /// steps are CG's, bit for bit; the last of them opens a window of `AUTO_FIRST_WINDOW` steps
-/// solved by Cholesky (no CG iteration), after which one slow CG solve opens the next window. A topology met between two slow solves (the same sheet without its bending elements)
-/// starts the count again, so alternating topologies never switch.
+/// solved by Cholesky (no CG iteration), after which one slow CG solve opens the next window. A
+/// topology met between two slow solves (the same sheet with one cell's diagonal flipped) starts
+/// the count again, so alternating topologies never switch.
 #[test]
 fn auto_goes_to_cholesky_after_a_streak_of_slow_cg_solves_on_one_topology() {
     let (model, x0, v0, dt) = stiff_sheet(SpringMode::Tension);
