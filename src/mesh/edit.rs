@@ -193,10 +193,12 @@ impl Mesh {
         if edit.remove.is_empty() {
             return Err(EditError::NotATiling("the edit removes no face".into()));
         }
-        if let Some(f) = self.first_stale(&edit.remove) {
+        let mut removed = edit.remove.clone();
+        removed.sort_unstable();
+        if let Some(f) = self.first_stale(&edit.remove, &removed) {
             return Err(EditError::StaleFace(f));
         }
-        let removed = sorted_unique(edit.remove.clone());
+        removed.dedup();
         let region = self.region_vertices(&removed);
         // New vertices.
         for (index, nv) in edit.new_vertices.iter().enumerate() {
@@ -265,13 +267,9 @@ impl Mesh {
         }
     }
 
-    /// The first face of `remove` (in its order) that is not live or repeats an earlier one.
-    fn first_stale(&self, remove: &[FaceId]) -> Option<FaceId> {
-        let sorted = {
-            let mut s = remove.to_vec();
-            s.sort_unstable();
-            s
-        };
+    /// The first face of `remove` (in its order) that is not live or repeats an earlier one;
+    /// `sorted` is `remove` sorted.
+    fn first_stale(&self, remove: &[FaceId], sorted: &[FaceId]) -> Option<FaceId> {
         let mut seen = vec![false; sorted.len()];
         remove.iter().copied().find(|&f| {
             if !self.is_face(f) {
