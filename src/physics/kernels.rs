@@ -10,7 +10,7 @@ use super::elements::{Bends, Springs};
 #[cfg(doc)]
 use super::forces::bend_modes;
 use super::forces::{DEGENERATE_RATIO, SLIVER_RATIO};
-use super::lanes::{block_ends, block_values, Lanes, Vec3Lanes, LANES};
+use super::lanes::{block_ends, block_values, slot_bounds, Lanes, Vec3Lanes, LANES};
 use crate::math::{Real, Vec3};
 use std::ops::Range;
 
@@ -115,37 +115,63 @@ fn spring_blocks<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
     v: &[Vec3],
     f: Window,
 ) {
-    let (a, b) = (&sp.a[..], &sp.b[..]);
     let Window { forces: f, first } = f;
     for start in range.clone().step_by(LANES) {
         let live = (range.end - start).min(LANES);
-        let [ia, ib] = block_ends(start, live, |j| [a[j], b[j]]);
-        let d = Vec3Lanes::gather(x, ib) - Vec3Lanes::gather(x, ia);
-        let len2 = d.norm_squared();
-        let mut c = Lanes::splat(0.0);
-        if ELASTIC {
-            let len = len2.sqrt();
-            let stretch = len - block_values(&sp.rest_length, start, live);
-            let stretch = if BOTH {
-                stretch
-            } else {
-                stretch.max(Lanes::splat(0.0))
-            };
-            c = c + block_values(&sp.k, start, live) * stretch / len;
+        spring_block::<ELASTIC, DAMP, BOTH>(sp, start, live, x, v, f, first);
+    }
+}
+
+/// The springs `start..start + live` (`live <= LANES`), added to `f` (slots from `first`).
+/// Panics when an end is outside `x`, `v` or the window: the gathers and the scatter are
+/// unchecked once that is checked, block by block.
+#[inline(always)]
+fn spring_block<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
+    sp: &Springs,
+    start: usize,
+    live: usize,
+    x: &[Vec3],
+    v: &[Vec3],
+    f: &mut [Vec3],
+    first: usize,
+) {
+    let ends = block_ends(start, live, |j| [sp.a[j], sp.b[j]]);
+    let (lo, hi) = slot_bounds(&ends);
+    assert!(
+        hi < x.len() && hi < v.len() && lo >= first && hi - first < f.len(),
+        "spring slots {lo}..={hi} outside the state or the window"
+    );
+    let [ia, ib] = ends;
+    // SAFETY: every slot of `ia` and `ib` is below `x.len()` and `v.len()` (checked above).
+    let gather = |points, ids| unsafe { Vec3Lanes::gather_unchecked(points, ids) };
+    let d = gather(x, ib) - gather(x, ia);
+    let len2 = d.norm_squared();
+    let mut c = Lanes::splat(0.0);
+    if ELASTIC {
+        let len = len2.sqrt();
+        let stretch = len - block_values(&sp.rest_length, start, live);
+        let stretch = if BOTH {
+            stretch
+        } else {
+            stretch.max(Lanes::splat(0.0))
+        };
+        c = c + block_values(&sp.k, start, live) * stretch / len;
+    }
+    if DAMP {
+        let dv = gather(v, ib) - gather(v, ia);
+        c = c + block_values(&sp.kd, start, live) * dv.dot(&d) / len2;
+    }
+    let fa = d.scale(c);
+    for l in 0..live {
+        // `!(len2 <= 0)`: a NaN length goes on and shows in the forces.
+        if len2.0[l] <= 0.0 {
+            continue;
         }
-        if DAMP {
-            let dv = Vec3Lanes::gather(v, ib) - Vec3Lanes::gather(v, ia);
-            c = c + block_values(&sp.kd, start, live) * dv.dot(&d) / len2;
-        }
-        let fa = d.scale(c);
-        for l in 0..live {
-            // `!(len2 <= 0)`: a NaN length goes on and shows in the forces.
-            if len2.0[l] <= 0.0 {
-                continue;
-            }
-            let fl = fa.lane(l);
-            f[ia[l] - first] += fl;
-            f[ib[l] - first] -= fl;
+        let fl = fa.lane(l);
+        // SAFETY: `first <= ia[l], ib[l] < first + f.len()` (checked above).
+        unsafe {
+            *f.get_unchecked_mut(ia[l] - first) += fl;
+            *f.get_unchecked_mut(ib[l] - first) -= fl;
         }
     }
 }
@@ -159,44 +185,75 @@ fn bend_blocks<const ELASTIC: bool, const DAMP: bool>(
     v: &[Vec3],
     f: Window,
 ) {
-    let elements = &bends.v;
     let Window { forces: f, first } = f;
     for start in range.clone().step_by(LANES) {
         let live = (range.end - start).min(LANES);
-        let ids = block_ends(start, live, |j| elements[j]);
-        let p = gather4(x, &ids);
-        let m = BendLanes::new(&p);
-        let mut c = Lanes::splat(0.0);
-        if ELASTIC {
-            c = c + Lanes::splat(k.elastic) * m.elastic_scale * m.sin_half;
+        bend_block::<ELASTIC, DAMP>(bends, start, live, k, x, v, f, first);
+    }
+}
+
+/// The bending elements `start..start + live` (`live <= LANES`), added to `f` (slots from
+/// `first`). Panics when a vertex is outside `x`, `v` or the window: the gathers and the scatter
+/// are unchecked once that is checked, block by block.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn bend_block<const ELASTIC: bool, const DAMP: bool>(
+    bends: &Bends,
+    start: usize,
+    live: usize,
+    k: BendConstants,
+    x: &[Vec3],
+    v: &[Vec3],
+    f: &mut [Vec3],
+    first: usize,
+) {
+    let ids = block_ends(start, live, |j| bends.v[j]);
+    let (lo, hi) = slot_bounds(&ids);
+    assert!(
+        hi < x.len() && hi < v.len() && lo >= first && hi - first < f.len(),
+        "bending element slots {lo}..={hi} outside the state or the window"
+    );
+    // SAFETY: every slot of `ids` is below `x.len()` and `v.len()` (checked above).
+    let p = unsafe { gather4(x, &ids) };
+    let m = BendLanes::new(&p);
+    let mut c = Lanes::splat(0.0);
+    if ELASTIC {
+        c = c + Lanes::splat(k.elastic) * m.elastic_scale * m.sin_half;
+    }
+    if DAMP {
+        // SAFETY: as for `p`.
+        let w = unsafe { gather4(v, &ids) };
+        let uv = m.u[0].dot(&w[0]) + m.u[1].dot(&w[1]) + m.u[2].dot(&w[2]) + m.u[3].dot(&w[3]);
+        c = c - Lanes::splat(k.damping) * m.damping_scale * uv;
+    }
+    let [u1, u2, u3, u4] = &m.u;
+    let forces = [u1.scale(c), u2.scale(c), u3.scale(c), u4.scale(c)];
+    for l in 0..live {
+        if !m.sound[l] {
+            continue;
         }
-        if DAMP {
-            let w = gather4(v, &ids);
-            let uv = m.u[0].dot(&w[0]) + m.u[1].dot(&w[1]) + m.u[2].dot(&w[2]) + m.u[3].dot(&w[3]);
-            c = c - Lanes::splat(k.damping) * m.damping_scale * uv;
-        }
-        let [u1, u2, u3, u4] = &m.u;
-        let forces = [u1.scale(c), u2.scale(c), u3.scale(c), u4.scale(c)];
-        for l in 0..live {
-            if !m.sound[l] {
-                continue;
-            }
-            for (slots, force) in ids.iter().zip(&forces) {
-                f[slots[l] - first] += force.lane(l);
-            }
+        for (slots, force) in ids.iter().zip(&forces) {
+            // SAFETY: `first <= slots[l] < first + f.len()` (checked above).
+            unsafe { *f.get_unchecked_mut(slots[l] - first) += force.lane(l) };
         }
     }
 }
 
 /// The four vertices of a block of bending elements (`array::map` is not always inlined).
+///
+/// # Safety
+/// Every slot of `ids` is below `points.len()`.
 #[inline(always)]
-fn gather4(points: &[Vec3], ids: &[[usize; LANES]; 4]) -> [Vec3Lanes; 4] {
-    [
-        Vec3Lanes::gather(points, ids[0]),
-        Vec3Lanes::gather(points, ids[1]),
-        Vec3Lanes::gather(points, ids[2]),
-        Vec3Lanes::gather(points, ids[3]),
-    ]
+unsafe fn gather4(points: &[Vec3], ids: &[[usize; LANES]; 4]) -> [Vec3Lanes; 4] {
+    // SAFETY: the caller's contract.
+    unsafe {
+        [
+            Vec3Lanes::gather_unchecked(points, ids[0]),
+            Vec3Lanes::gather_unchecked(points, ids[1]),
+            Vec3Lanes::gather_unchecked(points, ids[2]),
+            Vec3Lanes::gather_unchecked(points, ids[3]),
+        ]
+    }
 }
 
 /// [`bend_modes`] for a block of elements; lanes whose `sound` is false are degenerate and their

@@ -11,6 +11,7 @@ use crate::physics::forces::bend_modes;
 use crate::physics::{ForceModel, Forces, Material, SpringMode};
 use crate::testing::{built, random_state};
 use proptest::prelude::*;
+use std::panic::AssertUnwindSafe;
 
 /// The scalar springs, one element after the other (the formula of [`spring_forces`]).
 fn scalar_springs(
@@ -267,4 +268,75 @@ fn chunks_cover_every_element_once_and_their_even_and_odd_windows_never_meet() {
     let mesh = union_jack(33, 33, 1.0, 1.0);
     let model = built(&mesh, &Material::default(), &Forces::default());
     assert!(Chunks::build(model.springs(), model.bends(), mesh.vertex_slots()).is_empty());
+}
+
+/// The sweeps read and write without bounds checks once each block's slots are checked: a slot
+/// outside the window, or a state shorter than the elements need, must panic, never touch memory
+/// out of bounds.
+#[test]
+fn slots_outside_the_window_or_the_state_panic() {
+    let mesh = union_jack(4, 4, 1.0, 1.0);
+    let (x, v) = random_state(&mesh, 3, 0.05);
+    let mut springs = Springs::default();
+    springs.rebuild(&mesh, &Material::default());
+    let mut bends = Bends::default();
+    bends.rebuild(&mesh);
+    let kb = BendConstants {
+        elastic: 1e-3,
+        damping: 1e-5,
+    };
+    let n = x.len();
+    // True when the sweep stops on the block check (not on some other panic).
+    let panics = |sweep: &dyn Fn()| match std::panic::catch_unwind(AssertUnwindSafe(sweep)) {
+        Ok(()) => false,
+        Err(payload) => payload
+            .downcast_ref::<String>()
+            .is_some_and(|m| m.contains("outside the state or the window")),
+    };
+    // A window that leaves out the last slot, and one that starts after slot 0.
+    for (from, to) in [(0, n - 1), (1, n)] {
+        assert!(panics(&|| {
+            let mut f = vec![Vec3::zeros(); n];
+            let w = Window {
+                forces: &mut f[from..to],
+                first: from,
+            };
+            spring_forces::<true, true, false>(&springs, 0..springs.len(), &x, &v, w)
+        }));
+        assert!(panics(&|| {
+            let mut f = vec![Vec3::zeros(); n];
+            let w = Window {
+                forces: &mut f[from..to],
+                first: from,
+            };
+            bend_forces::<true, true>(&bends, 0..bends.len(), kb, &x, &v, w)
+        }));
+    }
+    // A state shorter than the mesh (positions, then velocities).
+    let short = &x[..n - 1];
+    assert!(panics(&|| {
+        spring_forces::<true, true, false>(
+            &springs,
+            0..springs.len(),
+            short,
+            &v,
+            whole(&mut vec![Vec3::zeros(); n]),
+        )
+    }));
+    assert!(panics(&|| {
+        bend_forces::<true, true>(
+            &bends,
+            0..bends.len(),
+            kb,
+            &x,
+            &v[..n - 1],
+            whole(&mut vec![Vec3::zeros(); n]),
+        )
+    }));
+    // The same sweeps with everything in bounds do not panic.
+    assert!(!panics(&|| {
+        let mut f = vec![Vec3::zeros(); n];
+        spring_forces::<true, true, false>(&springs, 0..springs.len(), &x, &v, whole(&mut f));
+        bend_forces::<true, true>(&bends, 0..bends.len(), kb, &x, &v, whole(&mut f));
+    }));
 }

@@ -110,12 +110,16 @@ pub(super) struct Vec3Lanes {
 }
 
 impl Vec3Lanes {
-    /// `points[ids[l]]` in lane `l`.
+    /// `points[ids[l]]` in lane `l`, without bounds checks.
+    ///
+    /// # Safety
+    /// Every `ids[l]` is below `points.len()`.
     #[inline(always)]
-    pub fn gather(points: &[Vec3], ids: [usize; LANES]) -> Self {
+    pub unsafe fn gather_unchecked(points: &[Vec3], ids: [usize; LANES]) -> Self {
         let (mut x, mut y, mut z) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
         for l in 0..LANES {
-            let p = points[ids[l]];
+            // SAFETY: the caller guarantees `ids[l] < points.len()`.
+            let p = unsafe { points.get_unchecked(ids[l]) };
             (x[l], y[l], z[l]) = (p.x, p.y, p.z);
         }
         Vec3Lanes {
@@ -222,4 +226,17 @@ pub(super) fn block_values(values: &[Real], start: usize, live: usize) -> Lanes 
         *o = values[start + if l < live { l } else { 0 }];
     }
     Lanes(out)
+}
+
+/// The smallest and the largest slot of a block's ends.
+#[inline(always)]
+pub(super) fn slot_bounds<const K: usize>(ends: &[[usize; LANES]; K]) -> (usize, usize) {
+    let (mut lo, mut hi) = (usize::MAX, 0);
+    for slots in ends {
+        for &s in slots {
+            lo = lo.min(s);
+            hi = hi.max(s);
+        }
+    }
+    (lo, hi)
 }
