@@ -142,9 +142,8 @@ fn spring_block<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
         "spring slots {lo}..={hi} outside the state or the window"
     );
     let [ia, ib] = ends;
-    // SAFETY: every slot of `ia` and `ib` is below `x.len()` and `v.len()` (checked above).
-    let gather = |points, ids| unsafe { Vec3Lanes::gather_unchecked(points, ids) };
-    let d = gather(x, ib) - gather(x, ia);
+    // SAFETY: every slot of `ia` and `ib` is below `x.len()` (checked above).
+    let d = unsafe { Vec3Lanes::gather_unchecked(x, ib) - Vec3Lanes::gather_unchecked(x, ia) };
     let len2 = d.norm_squared();
     let mut c = Lanes::splat(0.0);
     if ELASTIC {
@@ -158,7 +157,8 @@ fn spring_block<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
         c = c + block_values(&sp.k, start, live) * stretch / len;
     }
     if DAMP {
-        let dv = gather(v, ib) - gather(v, ia);
+        // SAFETY: every slot of `ia` and `ib` is below `v.len()` (checked above).
+        let dv = unsafe { Vec3Lanes::gather_unchecked(v, ib) - Vec3Lanes::gather_unchecked(v, ia) };
         c = c + block_values(&sp.kd, start, live) * dv.dot(&d) / len2;
     }
     let fa = d.scale(c);
