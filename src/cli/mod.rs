@@ -21,6 +21,7 @@ use std::io::IsTerminal;
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, OnceLock};
+use std::time::{Duration, Instant};
 
 /// Why a command did not complete; the variant decides the exit code.
 #[derive(Debug, thiserror::Error)]
@@ -126,17 +127,24 @@ pub fn configure_threads(threads: Option<u16>, parallel_runs: usize) {
     }
 }
 
+/// Signals this soon after the first count as the same interrupt: `timeout -s INT` sends its
+/// signal to the command and again to its process group, and a terminal may do the like.
+const REPEATED_SIGNAL: Duration = Duration::from_secs(1);
+
 /// The process's one interrupt flag, set by Ctrl-C (SIGINT), SIGTERM and SIGHUP alike (the
 /// `ctrlc` crate's `termination` feature): the first signal asks runs to stop cleanly (status
-/// `interrupted`, summary written, exit 130 whichever signal it was), a second ends the process at
-/// once (exit 130).
+/// `interrupted`, summary written, exit 130 whichever signal it was); another one at least a
+/// second later ends the process at once (exit 130, saying so), one sooner is the same interrupt.
 pub fn interrupt_flag() -> Arc<AtomicBool> {
     static FLAG: OnceLock<Arc<AtomicBool>> = OnceLock::new();
     FLAG.get_or_init(|| {
         let flag = Arc::new(AtomicBool::new(false));
         let handler_flag = flag.clone();
+        let first = OnceLock::new();
         let _ = ctrlc::set_handler(move || {
-            if handler_flag.swap(true, Ordering::SeqCst) {
+            let at = *first.get_or_init(Instant::now);
+            if handler_flag.swap(true, Ordering::SeqCst) && at.elapsed() >= REPEATED_SIGNAL {
+                eprintln!("interrupted again: exiting at once; this run's output is incomplete");
                 std::process::exit(130);
             }
         });

@@ -288,3 +288,35 @@ fn a_study_interrupted_during_its_reference_exits_130() {
     assert_eq!(output.status.code(), Some(130), "{err}");
     assert!(err.contains("interrupted"), "{err}");
 }
+
+/// Two interrupts in quick succession are one: `timeout -s INT` signals the command and then its
+/// process group, and the run must still stop cleanly (summary written, metrics renamed).
+#[test]
+fn two_signals_at_once_stop_a_run_cleanly() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .args(["run", "hanging", "--duration", "10", "--quiet", "--out"])
+        .arg(&out)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("binary runs");
+    let started = std::time::Instant::now();
+    while !out.join("metrics.csv.partial").exists() {
+        assert!(started.elapsed().as_secs() < 60, "the run did not start");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    for _ in 0..2 {
+        let sent = Command::new("kill")
+            .args(["-INT", &child.id().to_string()])
+            .status()
+            .expect("kill runs");
+        assert!(sent.success());
+    }
+    let status = child.wait().unwrap();
+    assert_eq!(status.code(), Some(130));
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
+    assert!(summary.contains("\"status\": \"interrupted\""), "{summary}");
+    assert!(out.join("metrics.csv").is_file());
+}
