@@ -51,6 +51,13 @@ fn reference_settings(o: &RefOpts) -> Result<ReferenceSettings, CliError> {
             return Err(CliError::Input(format!("{name} {v}: must be at least 2")));
         }
     }
+    if o.floor_resolution >= o.ref_resolution {
+        return Err(CliError::Input(format!(
+            "--floor-resolution {} must be below --ref-resolution {} (the floor is a coarser grid, \
+             measured against the reference)",
+            o.floor_resolution, o.ref_resolution
+        )));
+    }
     Ok(ReferenceSettings {
         resolution: o.ref_resolution,
         floor_resolution: o.floor_resolution,

@@ -37,6 +37,10 @@ pub enum EvalError {
     /// One of the trajectories has no frame.
     #[error("a trajectory has no recorded frame")]
     Empty,
+    /// The run stopped before its first frame after the start (interrupted or diverged at once):
+    /// its only frames show the shared initial state, whose error says nothing of the run.
+    #[error("the run has no frame after its start")]
+    NotStarted,
 }
 
 /// Errors of one run against the reference (all in m).
@@ -111,6 +115,9 @@ pub fn compare(run: &Trajectory, reference: &Trajectory) -> Result<ErrorReport, 
     }
     if run.frames() == 0 || reference.frames() == 0 {
         return Err(EvalError::Empty);
+    }
+    if run.times.last() <= run.times.first() && reference.times.last() > run.times.last() {
+        return Err(EvalError::NotStarted);
     }
     let grid = run.grid;
     let tracked = run.points - grid;
@@ -454,6 +461,16 @@ mod tests {
         assert_eq!(r.e_rms, 0.0);
         assert_eq!(r.e_t.len(), 3);
         assert!(r.hausdorff.is_nan(), "{}", r.hausdorff);
+    }
+
+    #[test]
+    fn a_run_stopped_before_its_first_frame_after_the_start_is_not_measured() {
+        // Interrupted before it began: only the initial state, which every run shares.
+        let reference = traj(8, 5, [0.0; 3], 1.0);
+        let unstarted = traj(8, 1, [0.0; 3], 1.0);
+        assert_eq!(compare(&unstarted, &reference), Err(EvalError::NotStarted));
+        // A one-frame reference against a one-frame run still compares.
+        assert!(compare(&unstarted, &unstarted).is_ok());
     }
 
     #[test]

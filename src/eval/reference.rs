@@ -361,6 +361,12 @@ pub fn ensure_reference(
             settings.resolution, settings.floor_resolution, settings.samples
         )));
     }
+    if settings.floor_resolution >= settings.resolution {
+        return Err(ReferenceError::Settings(format!(
+            "floor resolution {} must be below the reference's resolution {}",
+            settings.floor_resolution, settings.resolution
+        )));
+    }
     let largest_grid = settings.resolution.max(settings.floor_resolution);
     if largest_grid
         .checked_mul(largest_grid)

@@ -73,9 +73,21 @@ pub fn compare(base: &LoadedScene, opts: &CompareOptions) -> Result<Comparison, 
         RunConfig::label,
         |config, bar| {
             let row = run_config(base, config, opts, &samples, &reference, bar)?;
+            let error = |e: f64| {
+                if e.is_finite() {
+                    format!("{e:.3e} m")
+                } else {
+                    "- (not measured)".to_string()
+                }
+            };
             progress.println(&format!(
-                "{:>22}: {} in {:.1} s, {} steps, e_rms {:.3e} m, e_final {:.3e} m",
-                row.label, row.status, row.wall_s, row.steps, row.e_rms, row.e_final
+                "{:>22}: {} in {:.1} s, {} steps, e_rms {}, e_final {}",
+                row.label,
+                row.status,
+                row.wall_s,
+                row.steps,
+                error(row.e_rms),
+                error(row.e_final)
             ));
             Ok::<Row, StudyError>(row)
         },

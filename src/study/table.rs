@@ -305,9 +305,24 @@ pub fn write_tables(out: &Path, c: &Comparison) -> Result<(), StudyError> {
     crate::io::write_atomic(&path, json.as_bytes()).map_err(super::io_err(&path))
 }
 
-/// Reads a comparison folder (`comparison.json` and `comparison.csv`).
+/// Reads a comparison folder (`comparison.json` and `comparison.csv`); a path that is not a
+/// folder holding `comparison.json` is bad input ([`StudyError::Config`]), not a failed read.
 pub fn read_comparison(dir: &Path) -> Result<Comparison, StudyError> {
     let path = dir.join("comparison.json");
+    if !path.is_file() {
+        let what = if dir.is_dir() {
+            "a folder without comparison.json"
+        } else if dir.exists() {
+            "not a folder"
+        } else {
+            "no such folder"
+        };
+        return Err(StudyError::Config(format!(
+            "{}: {what}: expected a comparison folder written by `study` or `compare` (one per \
+             scene, e.g. out/study-quick/sphere)",
+            dir.display()
+        )));
+    }
     let text = crate::io::read_text(&path).map_err(super::io_err(&path))?;
     let manifest: Manifest = serde_json::from_str(&text)
         .map_err(|e| StudyError::Merge(format!("{}: {e}", path.display())))?;

@@ -224,9 +224,49 @@ fn reference_command_reports_the_floor_and_bad_options_exit_2() {
         (vec!["compare", "--integrators", "leapfrog"], "leapfrog"),
         (vec!["reference", "--ref-beta=-1"], "--ref-beta"),
         (vec!["compare", "--runs", "static@1"], "at least 2"),
+        (
+            vec![
+                "reference",
+                "--ref-resolution",
+                "9",
+                "--floor-resolution",
+                "17",
+            ],
+            "--floor-resolution 17 must be below --ref-resolution 9",
+        ),
     ] {
         let (code, text) = adaptcloth(&args);
         assert_eq!(code, 2, "{args:?}: {text}");
         assert!(text.contains(needle), "{args:?}: {text}");
+    }
+}
+
+/// `report` and `merge` on a path that is not a comparison folder: bad input (exit 2), saying
+/// what the path is and what was expected.
+#[test]
+fn report_and_merge_refuse_a_path_that_is_not_a_comparison_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("afile");
+    std::fs::write(&file, "x").unwrap();
+    let missing = dir.path().join("missing");
+    for (path, what) in [
+        (dir.path(), "a folder without comparison.json"),
+        (file.as_path(), "not a folder"),
+        (missing.as_path(), "no such folder"),
+    ] {
+        let p = path.to_str().unwrap();
+        let out = dir.path().join("merged");
+        for args in [
+            vec!["report", p],
+            vec!["merge", p, "--out", out.to_str().unwrap()],
+        ] {
+            let (code, text) = adaptcloth(&args);
+            assert_eq!(code, 2, "{args:?}: {text}");
+            assert!(text.contains(what), "{args:?}: {text}");
+            assert!(
+                text.contains("expected a comparison folder"),
+                "{args:?}: {text}"
+            );
+        }
     }
 }
