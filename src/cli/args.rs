@@ -26,9 +26,9 @@ impl Command {
     /// How many runs the command makes at once (its `--jobs`; 1 for the others).
     pub fn parallel_runs(&self) -> usize {
         match self {
-            Command::Study(a) => a.execution.jobs.max(1),
-            Command::Compare(a) => a.execution.jobs.max(1),
-            Command::Reference(a) => a.jobs.max(1),
+            Command::Study(a) => a.execution.jobs,
+            Command::Compare(a) => a.execution.jobs,
+            Command::Reference(a) => a.jobs,
             _ => 1,
         }
     }
@@ -152,7 +152,7 @@ pub struct ReferenceArgs {
     #[arg(long = "set", value_name = "KEY=VALUE")]
     pub set: Vec<String>,
     /// Run the reference and the floor run in parallel (2) or one after the other (1).
-    #[arg(long, default_value_t = 2)]
+    #[arg(long, default_value_t = 2, value_parser = jobs_parser())]
     pub jobs: usize,
     /// No progress bars.
     #[arg(long)]
@@ -198,8 +198,8 @@ pub struct CompareArgs {
 /// How the runs of a study are executed (`compare`, `study`).
 #[derive(clap::Args)]
 pub struct ExecutionArgs {
-    /// Parallel runs.
-    #[arg(long, default_value_t = 1)]
+    /// Parallel runs (1 to 1024).
+    #[arg(long, default_value_t = 1, value_parser = jobs_parser())]
     pub jobs: usize,
     /// Run only slice i of n (1-based) of the configurations; combine with `adaptcloth merge`.
     #[arg(long)]
@@ -313,4 +313,9 @@ pub struct RenderArgs {
     /// Picture size in pixels.
     #[arg(long, default_value_t = 480)]
     pub height: u32,
+}
+
+/// `--jobs`: 1 to 1024 runs at once (0 is refused, not read as 1).
+fn jobs_parser() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::<usize>::new().range(1..=1024)
 }

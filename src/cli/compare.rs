@@ -224,7 +224,7 @@ fn ensure_references(
         |&i| plans[i].loaded.scene.name.clone(),
         |&i, bar| {
             bar.finish_and_clear(); // the runs show their own bars
-            reference::ensure_reference(
+            let r = reference::ensure_reference(
                 &plans[i].loaded,
                 settings,
                 &e.cache,
@@ -232,7 +232,12 @@ fn ensure_references(
                 e.force_reference,
                 Some(progress.multi()),
                 Some(interrupt.clone()),
-            )
+            )?;
+            // Said when computed; each scene's comparison names it again, read from the cache.
+            if !r.cached {
+                progress.println(&reference::describe(&r));
+            }
+            Ok::<_, reference::ReferenceError>(r)
         },
     )?)
 }
@@ -249,7 +254,7 @@ struct Execution {
 impl Execution {
     fn new(o: &ExecutionArgs, cache: &Path, force_reference: bool) -> Result<Execution, CliError> {
         Ok(Execution {
-            jobs: o.jobs.max(1),
+            jobs: o.jobs,
             shard: o.shard.as_deref().map(str::parse::<Shard>).transpose()?,
             cache: cache.to_path_buf(),
             force_reference,

@@ -193,8 +193,15 @@ fn check_report_path(path: &Path) -> Result<(), CliError> {
 /// Creates the output folder `dir` (exit 2 when it cannot be: a file in the way, no permission).
 fn output_folder(dir: &Path) -> Result<(), CliError> {
     std::fs::create_dir_all(dir).map_err(|e| {
+        // Name the file in the way (`dir` itself or one of its parents), not only the OS error.
+        let in_the_way = dir.ancestors().find(|a| a.is_file());
+        let why = match in_the_way {
+            Some(f) if f == dir => "it is a file, not a folder".to_string(),
+            Some(f) => format!("{} is a file, not a folder", f.display()),
+            None => e.to_string(),
+        };
         CliError::Input(format!(
-            "--out {}: cannot create the output folder: {e}",
+            "--out {}: cannot create the output folder: {why}",
             dir.display()
         ))
     })

@@ -53,7 +53,13 @@ fn bad_input_exits_2_with_a_clear_message() {
     ];
     let empty = dir.path().join("empty.toml");
     std::fs::write(&empty, "# nothing\n\n").unwrap();
+    // A file where the output folder should be, or one of its parents.
+    let file_out = empty.to_str().unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["run", "--out", file_out], "it is a file, not a folder"),
+        (vec!["study", "--out", file_out], "is a file, not a folder"),
+        (vec!["study", "--jobs", "0"], "0 is not in 1..=1024"),
+        (vec!["reference", "--jobs", "0"], "0 is not in 1..=1024"),
         (vec!["run", bad.to_str().unwrap()], "material.rho"),
         (vec!["run", typo.to_str().unwrap()], "resolutoin"),
         (vec!["run", missing_mesh.to_str().unwrap()], "gone.obj"),
