@@ -24,9 +24,24 @@ pub fn plain_types(message: &str) -> String {
         ("expected i32", "expected a whole number"),
         ("expected a boolean", "expected true or false"),
     ];
-    PLAIN.iter().fold(message.to_string(), |m, (rust, plain)| {
+    let plain = PLAIN.iter().fold(message.to_string(), |m, (rust, plain)| {
         m.replace(rust, plain)
-    })
+    });
+    // `expected struct ClothSpec`: a section (a table of keys) was expected.
+    match plain.find("expected struct ") {
+        Some(at) => {
+            let rest = &plain[at + "expected struct ".len()..];
+            let name_end = rest
+                .find(|c: char| !c.is_alphanumeric() && c != '_')
+                .unwrap_or(rest.len());
+            format!(
+                "{}expected a section (a table of keys){}",
+                &plain[..at],
+                &rest[name_end..]
+            )
+        }
+        None => plain,
+    }
 }
 
 /// A valid obstacle of each kind: their serialized keys are the keys each kind accepts.

@@ -490,12 +490,13 @@ fn apply_override(table: &mut toml::Table, setting: &Setting) -> Result<(), Scen
                 t.get_mut(*part).ok_or_else(|| unknown(valid))?
             }
             toml::Value::Array(a) => {
-                let len = a.len();
-                let index: usize = part
-                    .parse()
-                    .map_err(|_| unknown(vec![format!("0..{len}")]))?;
-                a.get_mut(index)
-                    .ok_or_else(|| unknown(vec![format!("0..{len}")]))?
+                let indices = match a.len() {
+                    0 => "none (the list is empty)".to_string(),
+                    1 => "0 (the list has one entry)".to_string(),
+                    n => format!("0 to {} (the list has {n} entries)", n - 1),
+                };
+                let index: usize = part.parse().map_err(|_| unknown(vec![indices.clone()]))?;
+                a.get_mut(index).ok_or_else(|| unknown(vec![indices]))?
             }
             _ => return Err(unknown(Vec::new())),
         };

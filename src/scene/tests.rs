@@ -164,6 +164,19 @@ fn set_of_an_unknown_key_is_an_error() {
     }
     let e = load_text("", &["cloth.resolution"]).unwrap_err();
     assert!(matches!(e, SceneError::BadOverride { .. }));
+    // A list index out of range says which indices exist, in words.
+    let e = load_text(text_of("sphere"), &["obstacles.5.radius=1"]).unwrap_err();
+    assert!(e.to_string().contains("0 (the list has one entry)"), "{e}");
+}
+
+#[test]
+fn a_value_where_a_section_belongs_says_a_section_was_expected() {
+    let e = load_text("", &["cloth=3"]).unwrap_err().to_string();
+    assert!(
+        e.contains("expected a section (a table of keys) in `cloth`"),
+        "{e}"
+    );
+    assert!(!e.contains("struct"), "{e}");
 }
 
 #[test]
