@@ -477,6 +477,16 @@ fn apply_override(table: &mut toml::Table, setting: &Setting) -> Result<(), Scen
         return Err(bad());
     }
     let value = parse_value(raw.trim());
+    // A number beyond a double's range is not a string: TOML refuses it, so say why.
+    if value.is_str() && raw.trim().parse::<f64>().is_ok_and(f64::is_infinite) {
+        return Err(SceneError::Invalid {
+            subject: setting.place(),
+            expected: format!(
+                "{} is beyond the range of a number here (at most about 1.8e308 in size)",
+                raw.trim()
+            ),
+        });
+    }
     let unknown = |valid: Vec<String>| SceneError::UnknownKey {
         place: setting.place(),
         valid: valid.join(", "),

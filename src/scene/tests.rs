@@ -170,6 +170,21 @@ fn set_of_an_unknown_key_is_an_error() {
 }
 
 #[test]
+fn a_number_beyond_a_doubles_range_says_so() {
+    for raw in ["1e400", "-1e400"] {
+        let setting = format!("material.rho={raw}");
+        let e = load_text("", &[setting.as_str()]).unwrap_err().to_string();
+        assert!(e.contains("beyond the range of a number"), "{e}");
+        assert!(e.contains(&setting), "{e}");
+    }
+    // `inf` spelled out is TOML's infinity, a number (refused later by the range checks).
+    let e = load_text("", &["material.rho=inf"])
+        .unwrap_err()
+        .to_string();
+    assert!(!e.contains("beyond the range"), "{e}");
+}
+
+#[test]
 fn a_value_where_a_section_belongs_says_a_section_was_expected() {
     let e = load_text("", &["cloth=3"]).unwrap_err().to_string();
     assert!(
