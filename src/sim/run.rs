@@ -44,6 +44,34 @@ pub fn this_command() -> String {
     std::env::args().collect::<Vec<_>>().join(" ")
 }
 
+/// `adaptcloth run SCENE --out OUT` on the `scene.resolved.toml` the run writes (absolute
+/// paths, so it works from any folder; the copy goes beside the original, `-rerun` added); empty
+/// when the run writes none.
+fn rerun_command(opts: &RunOptions) -> String {
+    if opts.resolved_scene.is_none() {
+        return String::new();
+    }
+    let out = std::path::absolute(&opts.out_dir).unwrap_or_else(|_| opts.out_dir.clone());
+    let mut again = out.clone().into_os_string();
+    again.push("-rerun");
+    format!(
+        "adaptcloth run {} --out {}",
+        shell_word(&out.join("scene.resolved.toml")),
+        shell_word(Path::new(&again))
+    )
+}
+
+/// `path` as one shell word: as it is when it holds only safe characters, else single-quoted.
+fn shell_word(path: &Path) -> String {
+    let text = path.display().to_string();
+    let safe = |c: char| c.is_ascii_alphanumeric() || "/._-=+,:@".contains(c);
+    if !text.is_empty() && text.chars().all(safe) {
+        text
+    } else {
+        format!("'{}'", text.replace('\'', "'\\''"))
+    }
+}
+
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -65,8 +93,13 @@ pub struct RunSummary {
     pub scene: String,
     /// Scene file or `<embedded NAME>`.
     pub source: String,
-    /// The command line that started the run.
+    /// The command line that started the run (for a study's run, the whole study's).
     pub command: String,
+    /// The folder `command` ran in (absolute; empty when unknown).
+    pub working_dir: String,
+    /// This run alone again (absolute paths): `adaptcloth run` on the `scene.resolved.toml` it
+    /// wrote; empty when it wrote none.
+    pub rerun: String,
     /// The version of adaptcloth that ran it.
     pub version: String,
     /// Strategy.
@@ -275,6 +308,10 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
         scene: sim.scene.name.clone(),
         source: opts.source.clone(),
         command: opts.command.clone(),
+        working_dir: std::env::current_dir()
+            .map(|d| d.display().to_string())
+            .unwrap_or_default(),
+        rerun: rerun_command(opts),
         version: env!("CARGO_PKG_VERSION").to_string(),
         strategy: sim.strategy_name().to_string(),
         integrator: sim.integrator_name().to_string(),

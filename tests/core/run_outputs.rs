@@ -320,3 +320,45 @@ fn two_signals_at_once_stop_a_run_cleanly() {
     assert!(summary.contains("\"status\": \"interrupted\""), "{summary}");
     assert!(out.join("metrics.csv").is_file());
 }
+
+/// `summary.json` says where the run's command ran and how to run it alone again: the `rerun`
+/// line (absolute paths, quoted where needed) gives the same metrics from another folder.
+#[test]
+fn a_runs_rerun_line_reproduces_it_from_anywhere() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("first run");
+    let status = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .args(["run", "hanging", "--duration", "0.05", "--quiet", "--out"])
+        .arg(&out)
+        .current_dir(dir.path())
+        .status()
+        .expect("binary runs");
+    assert!(status.success());
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let cwd = summary["working_dir"].as_str().unwrap();
+    assert_eq!(
+        std::path::Path::new(cwd).canonicalize().unwrap(),
+        dir.path().canonicalize().unwrap()
+    );
+    let rerun = summary["rerun"].as_str().unwrap();
+    let rest = rerun
+        .strip_prefix("adaptcloth ")
+        .expect("an adaptcloth command");
+    // Run it from another folder, through a shell (the line is a shell command).
+    let elsewhere = tempfile::tempdir().unwrap();
+    let status = Command::new("sh")
+        .arg("-c")
+        .arg(format!("\"$0\" {rest} --quiet"))
+        .arg(env!("CARGO_BIN_EXE_adaptcloth"))
+        .current_dir(elsewhere.path())
+        .status()
+        .expect("sh runs");
+    assert!(status.success(), "{rerun}");
+    let again = dir.path().join("first run-rerun");
+    assert_eq!(
+        std::fs::read(out.join("metrics.csv")).unwrap(),
+        std::fs::read(again.join("metrics.csv")).unwrap(),
+        "{rerun}"
+    );
+}
