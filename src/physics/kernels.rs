@@ -116,9 +116,54 @@ fn spring_blocks<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
     f: Window,
 ) {
     let Window { forces: f, first } = f;
+    let mut sum = RunningSum::default();
     for start in range.clone().step_by(LANES) {
         let live = (range.end - start).min(LANES);
-        spring_block::<ELASTIC, DAMP, BOTH>(sp, start, live, x, v, f, first);
+        spring_block::<ELASTIC, DAMP, BOTH>(sp, start, live, x, v, f, first, &mut sum);
+    }
+    sum.flush(f);
+}
+
+/// The force of one window slot kept in registers while consecutive springs add to it (springs
+/// are sorted by their first end, so each first end's additions come in one run), written back
+/// when the run ends. Every slot receives the same additions in the same order as when each is
+/// made in memory, so the sums are bit for bit the same.
+struct RunningSum {
+    /// The window slot (`usize::MAX`: none).
+    slot: usize,
+    /// Its force so far (N).
+    sum: Vec3,
+}
+
+impl Default for RunningSum {
+    fn default() -> Self {
+        RunningSum {
+            slot: usize::MAX,
+            sum: Vec3::zeros(),
+        }
+    }
+}
+
+impl RunningSum {
+    /// Adds `force` to window slot `slot` (below `f.len()`), starting a new run from `f`'s value
+    /// when the slot changes.
+    #[inline(always)]
+    fn add(&mut self, f: &mut [Vec3], slot: usize, force: Vec3) {
+        if slot != self.slot {
+            self.flush(f);
+            self.slot = slot;
+            self.sum = f[slot];
+        }
+        self.sum += force;
+    }
+
+    /// Writes the running sum back to its slot.
+    #[inline(always)]
+    fn flush(&mut self, f: &mut [Vec3]) {
+        if let Some(out) = f.get_mut(self.slot) {
+            *out = self.sum;
+        }
+        self.slot = usize::MAX;
     }
 }
 
@@ -126,6 +171,7 @@ fn spring_blocks<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
 /// Panics when an end is outside `x`, `v` or the window: the gathers and the scatter are
 /// unchecked once that is checked, block by block.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn spring_block<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
     sp: &Springs,
     start: usize,
@@ -134,6 +180,7 @@ fn spring_block<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
     v: &[Vec3],
     f: &mut [Vec3],
     first: usize,
+    sum: &mut RunningSum,
 ) {
     let ends = block_ends(start, live, |j| [sp.a[j], sp.b[j]]);
     let (lo, hi) = slot_bounds(&ends);
@@ -168,11 +215,12 @@ fn spring_block<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
             continue;
         }
         let fl = fa.lane(l);
-        // SAFETY: `first <= ia[l], ib[l] < first + f.len()` (checked above).
-        unsafe {
-            *f.get_unchecked_mut(ia[l] - first) += fl;
-            *f.get_unchecked_mut(ib[l] - first) -= fl;
-        }
+        sum.add(f, ia[l] - first, fl);
+        // `ib[l]` is not the running sum's slot: a spring with both ends on one slot (no mesh
+        // edge is one) has `d = 0` and stopped above, unless its position is not finite, and
+        // then its forces are NaN whichever the order.
+        // SAFETY: `first <= ib[l] < first + f.len()` (checked above).
+        unsafe { *f.get_unchecked_mut(ib[l] - first) -= fl };
     }
 }
 
