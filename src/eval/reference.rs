@@ -129,6 +129,14 @@ pub struct Reference {
     pub cached: bool,
 }
 
+/// Said after a reference or floor run diverged: the keys a study sets for every run reach the
+/// reference as well.
+pub const DIVERGED_HINT: &str =
+    "\n(the reference and floor runs take the scene keys given to every \
+    run: `set` at the top of a study file, or `--set` and `--duration` of `compare` and \
+    `reference`; keys meant for the runs alone, such as a fixed step, go in a study file's \
+    [[runs]] entry: its `set`, `dt` or `beta`)";
+
 /// Why a reference could not be made.
 #[derive(Debug, thiserror::Error)]
 pub enum ReferenceError {
@@ -144,7 +152,9 @@ pub enum ReferenceError {
     #[error("{0}")]
     Setup(#[from] crate::sim::SetupError),
     /// A run ended without completing.
-    #[error("the {what} run ({resolution}x{resolution}) did not complete: {status:?}: {message}")]
+    #[error(
+        "the {what} run ({resolution}x{resolution}) did not complete: {status:?}: {message}{hint}"
+    )]
     RunFailed {
         /// `reference` or `floor`.
         what: &'static str,
@@ -154,6 +164,8 @@ pub enum ReferenceError {
         status: RunStatus,
         /// Why.
         message: String,
+        /// What may have caused it ([`DIVERGED_HINT`] for a divergence), or empty.
+        hint: &'static str,
     },
     /// A cache file is malformed.
     #[error("{path}: malformed reference cache file: {why}")]
@@ -454,6 +466,11 @@ pub fn ensure_reference(
                 resolution: res,
                 status: s.status,
                 message: s.message.clone(),
+                hint: if s.status == RunStatus::Diverged {
+                    DIVERGED_HINT
+                } else {
+                    ""
+                },
             });
         }
     }

@@ -270,3 +270,37 @@ fn report_and_merge_refuse_a_path_that_is_not_a_comparison_folder() {
         }
     }
 }
+
+/// A `--set` that makes the reference diverge (it reaches the reference too) fails with a hint
+/// that says so and where run-only keys go.
+#[test]
+fn a_reference_diverging_under_a_shared_key_says_where_run_only_keys_go() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, cache) = (dir.path().join("o"), dir.path().join("cache"));
+    let (code, text) = adaptcloth(&[
+        "compare",
+        "hanging",
+        "--quiet",
+        "--duration",
+        "0.2",
+        "--ref-resolution",
+        "9",
+        "--floor-resolution",
+        "5",
+        "--samples",
+        "8",
+        "--runs",
+        "static@5",
+        "--set",
+        "time.mode=\"fixed\"",
+        "--set",
+        "time.dt=0.02",
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{text}");
+    assert!(text.contains("did not complete: Diverged"), "{text}");
+    assert!(text.contains("[[runs]] entry"), "{text}");
+}
