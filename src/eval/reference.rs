@@ -131,11 +131,20 @@ pub struct Reference {
 
 /// Said after a reference or floor run diverged: the keys a study sets for every run reach the
 /// reference as well.
-pub const DIVERGED_HINT: &str =
-    "\n(the reference and floor runs take the scene keys given to every \
+const DIVERGED_HINT: &str = "\n(the reference and floor runs take the scene keys given to every \
     run: `set` at the top of a study file, or `--set` and `--duration` of `compare` and \
     `reference`; keys meant for the runs alone, such as a fixed step, go in a study file's \
     [[runs]] entry: its `set`, `dt` or `beta`)";
+
+/// What may have made a reference or floor run end with `status`: [`DIVERGED_HINT`] for a
+/// divergence, nothing otherwise.
+fn hint_for(status: RunStatus) -> &'static str {
+    if status == RunStatus::Diverged {
+        DIVERGED_HINT
+    } else {
+        ""
+    }
+}
 
 /// Why a reference could not be made.
 #[derive(Debug, thiserror::Error)]
@@ -153,7 +162,8 @@ pub enum ReferenceError {
     Setup(#[from] crate::sim::SetupError),
     /// A run ended without completing.
     #[error(
-        "the {what} run ({resolution}x{resolution}) did not complete: {status:?}: {message}{hint}"
+        "the {what} run ({resolution}x{resolution}) did not complete: {status:?}: {message}{}",
+        hint_for(*.status)
     )]
     RunFailed {
         /// `reference` or `floor`.
@@ -164,8 +174,6 @@ pub enum ReferenceError {
         status: RunStatus,
         /// Why.
         message: String,
-        /// What may have caused it ([`DIVERGED_HINT`] for a divergence), or empty.
-        hint: &'static str,
     },
     /// A cache file is malformed.
     #[error("{path}: malformed reference cache file: {why}")]
@@ -466,11 +474,6 @@ pub fn ensure_reference(
                 resolution: res,
                 status: s.status,
                 message: s.message.clone(),
-                hint: if s.status == RunStatus::Diverged {
-                    DIVERGED_HINT
-                } else {
-                    ""
-                },
             });
         }
     }

@@ -235,15 +235,19 @@ pub fn resolve(name: Option<&str>, overrides: &Overrides) -> Result<LoadedScene,
     embedded_with(name, overrides).ok_or_else(|| not_found(name))?
 }
 
+/// The names of the embedded scenes, in [`EMBEDDED_SCENES`]' order.
+pub fn embedded_names() -> Vec<&'static str> {
+    EMBEDDED_SCENES.iter().map(|(n, _)| *n).collect()
+}
+
 fn not_found(name: &str) -> SceneError {
-    let embedded: Vec<&str> = EMBEDDED_SCENES.iter().map(|(n, _)| *n).collect();
     SceneError::Io {
         path: name.to_string(),
         source: std::io::Error::new(
             std::io::ErrorKind::NotFound,
             format!(
                 "no such file, and no embedded scene of that name (embedded: {})",
-                embedded.join(", ")
+                embedded_names().join(", ")
             ),
         ),
     }

@@ -336,8 +336,8 @@ fn scene_named(
     if !Path::new(given).is_absolute() && p.is_file() {
         return Ok(p.display().to_string());
     }
-    let embedded = crate::scene::EMBEDDED_SCENES.iter().map(|(n, _)| *n);
-    if Path::new(given).exists() || embedded.clone().any(|n| n == given) {
+    let embedded = crate::scene::embedded_names();
+    if Path::new(given).exists() || embedded.contains(&given.as_str()) {
         return Ok(given.clone());
     }
     Err(err.spanned(
@@ -345,7 +345,7 @@ fn scene_named(
         format!(
             "scenes[{index}] = \"{given}\": no such scene file (relative to the study file's \
              folder) and no embedded scene of that name (embedded: {})",
-            embedded.collect::<Vec<_>>().join(", ")
+            embedded.join(", ")
         ),
     ))
 }

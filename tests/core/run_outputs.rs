@@ -217,30 +217,41 @@ fn a_full_disk_fails_the_run_and_leaves_no_torn_file_looking_complete() {
     assert!(!out.join("metrics.csv").exists());
 }
 
+/// Starts a run of minutes (the hanging scene over 10 s of simulated time) into `out` and returns
+/// once it is stepping (its metrics table exists, and 0.2 s more).
+fn start_long_run(out: &std::path::Path) -> std::process::Child {
+    let child = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .args(["run", "hanging", "--duration", "10", "--quiet", "--out"])
+        .arg(out)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("binary runs");
+    let started = std::time::Instant::now();
+    while !out.join("metrics.csv.partial").exists() {
+        assert!(started.elapsed().as_secs() < 60, "the run did not start");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    child
+}
+
+/// Sends `signal` (`-INT`, `-TERM`, ...) to `child`.
+fn send(signal: &str, child: &std::process::Child) {
+    let sent = Command::new("kill")
+        .args([signal, &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(sent.success());
+}
+
 /// SIGTERM and SIGHUP stop a run like Ctrl-C: status `interrupted` in the summary, exit 130.
 #[test]
 fn sigterm_and_sighup_stop_a_run_cleanly() {
     for signal in ["-TERM", "-HUP"] {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("o");
-        // A run of minutes: the hanging scene over 10 s of simulated time.
-        let mut child = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
-            .args(["run", "hanging", "--duration", "10", "--quiet", "--out"])
-            .arg(&out)
-            .stderr(std::process::Stdio::piped())
-            .spawn()
-            .expect("binary runs");
-        let started = std::time::Instant::now();
-        while !out.join("metrics.csv.partial").exists() {
-            assert!(started.elapsed().as_secs() < 60, "the run did not start");
-            std::thread::sleep(std::time::Duration::from_millis(20));
-        }
-        std::thread::sleep(std::time::Duration::from_millis(200));
-        let sent = Command::new("kill")
-            .args([signal, &child.id().to_string()])
-            .status()
-            .expect("kill runs");
-        assert!(sent.success());
+        let mut child = start_long_run(&out);
+        send(signal, &child);
         let status = child.wait().unwrap();
         assert_eq!(status.code(), Some(130), "{signal}");
         let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
@@ -295,25 +306,9 @@ fn a_study_interrupted_during_its_reference_exits_130() {
 fn two_signals_at_once_stop_a_run_cleanly() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("o");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
-        .args(["run", "hanging", "--duration", "10", "--quiet", "--out"])
-        .arg(&out)
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .expect("binary runs");
-    let started = std::time::Instant::now();
-    while !out.join("metrics.csv.partial").exists() {
-        assert!(started.elapsed().as_secs() < 60, "the run did not start");
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    std::thread::sleep(std::time::Duration::from_millis(200));
-    for _ in 0..2 {
-        let sent = Command::new("kill")
-            .args(["-INT", &child.id().to_string()])
-            .status()
-            .expect("kill runs");
-        assert!(sent.success());
-    }
+    let mut child = start_long_run(&out);
+    send("-INT", &child);
+    send("-INT", &child);
     let status = child.wait().unwrap();
     assert_eq!(status.code(), Some(130));
     let summary = std::fs::read_to_string(out.join("summary.json")).unwrap();
