@@ -20,13 +20,13 @@
 //!   between them (the bunny's ears). A mesh edge through a face between the samples is seen
 //!   only as deep as the samples reach (at most the exact depth).
 
+use super::mesh_faces::{mesh_contact, mesh_sample_contact};
 use super::shape::{to_glam, to_na, Geometry, Solid};
 use super::{Obstacles, MARGIN_SLACK};
 use crate::math::{Real, Vec3};
-use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query::PointQuery;
-use parry3d_f64::shape::{Shape, TriMesh, Triangle};
+use parry3d_f64::shape::{Shape, Triangle};
 
 /// Below this length (m) an offset gives no direction.
 pub(super) const DEGENERATE_LENGTH: Real = 1e-12;
@@ -211,95 +211,8 @@ fn convex_contact(
     })
 }
 
-/// The deepest mesh vertex under the triangle, followed along its outward pseudo-normal; vertices
-/// more than the triangle's longest edge below it are not looked at, and a vertex counts as
-/// through the triangle only when the triangle's point on its normal line is inside the solid (a
-/// vertex on the far side of the mesh meets the triangle from behind, through the solid, with
-/// the triangle's point outside). Worked in the mesh's own frame (a moving mesh's triangle is
-/// brought there, the contact taken back).
-fn mesh_contact(
-    solid: &Solid,
-    mesh: &TriMesh,
-    tri: [Vector; 3],
-    band: Real,
-) -> Option<TriangleContact> {
-    let normals = mesh.pseudo_normals()?;
-    let tri = tri.map(|p| solid.mesh_point(p));
-    let [a, b, c] = tri;
-    let n = (b - a).cross(c - a);
-    let area2 = n.length();
-    if area2 <= DEGENERATE_LENGTH * DEGENERATE_LENGTH {
-        return None;
-    }
-    let reach = (b - a).length().max((c - b).length()).max((a - c).length());
-    let pad = Vector::splat(reach.max(band));
-    let (lo, hi) = bounds(tri);
-    let aabb = Aabb::new(lo - pad, hi + pad);
-    let unit = n / area2;
-    let vertices = mesh.vertices();
-    let mut best: Option<TriangleContact> = None;
-    for part in mesh.bvh().intersect_aabb(&aabb) {
-        for &vi in &mesh.indices()[part as usize] {
-            let p = vertices[vi as usize];
-            let Some(np) = normals.vertices_pseudo_normal[vi as usize].try_normalize() else {
-                continue;
-            };
-            let facing = np.dot(unit);
-            if facing.abs() <= 1e-9 {
-                continue;
-            }
-            // Along the normal line to the plane, then measured across the plane: how far the
-            // triangle lies above (positive) or below the vertex.
-            let s = (a - p).dot(unit) / facing;
-            let distance = s * facing.abs();
-            if distance >= band || s < -reach || best.is_some_and(|best| distance >= best.distance)
-            {
-                continue;
-            }
-            let r = p + np * s;
-            if inside_triangle(r, tri, n) && (s >= 0.0 || solid.depth(solid.world_point(r)) > 0.0) {
-                best = Some(TriangleContact {
-                    point: r,
-                    normal: unit * facing.signum(),
-                    distance,
-                });
-            }
-        }
-    }
-    best.map(|c| TriangleContact {
-        point: solid.world_point(c.point),
-        normal: solid.world_vector(c.normal),
-        ..c
-    })
-}
-
-/// The deepest of the triangle's ten points at barycentric thirds (world, m) whose signed
-/// distance to the mesh is below `band` (m), with its projection's outward normal; `None` when
-/// none is.
-fn mesh_sample_contact(solid: &Solid, tri: [Vector; 3], band: Real) -> Option<TriangleContact> {
-    const THIRDS: usize = 3;
-    let mut best: Option<TriangleContact> = None;
-    for i in 0..=THIRDS {
-        for j in 0..=THIRDS - i {
-            let k = THIRDS - i - j;
-            let p = (tri[0] * i as Real + tri[1] * j as Real + tri[2] * k as Real) / THIRDS as Real;
-            let Some(proj) = solid.project_near(p, band) else {
-                continue;
-            };
-            if best.is_none_or(|best| proj.distance < best.distance) {
-                best = Some(TriangleContact {
-                    point: p,
-                    normal: proj.normal,
-                    distance: proj.distance,
-                });
-            }
-        }
-    }
-    best
-}
-
 /// The bounding box `(lo, hi)` of a triangle (m).
-fn bounds(tri: [Vector; 3]) -> (Vector, Vector) {
+pub(super) fn bounds(tri: [Vector; 3]) -> (Vector, Vector) {
     (
         tri[0].min(tri[1]).min(tri[2]),
         tri[0].max(tri[1]).max(tri[2]),
@@ -423,14 +336,6 @@ fn barycentric(p: Vector, tri: [Vector; 3]) -> [Real; 3] {
     let w1 = ((c * u - b * w) / det).clamp(0.0, 1.0);
     let w2 = ((a * w - b * u) / det).clamp(0.0, 1.0 - w1);
     [1.0 - w1 - w2, w1, w2]
-}
-
-/// Whether `r`, in the plane of `tri` (normal `n`, unnormalised), lies in the closed triangle.
-fn inside_triangle(r: Vector, tri: [Vector; 3], n: Vector) -> bool {
-    (0..3).all(|k| {
-        let (p, q) = (tri[k], tri[(k + 1) % 3]);
-        (q - p).cross(r - p).dot(n) >= 0.0
-    })
 }
 
 impl Obstacles {

@@ -35,6 +35,7 @@ mod error;
 mod face_grid;
 mod faces;
 mod grid;
+mod mesh_faces;
 mod motion;
 #[cfg(test)]
 mod motion_tests;

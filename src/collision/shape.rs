@@ -6,6 +6,7 @@ use super::collide_velocity;
 use super::cylinder_ray::cylinder_entry;
 use super::error::CollisionError;
 use super::grid::DistanceGrid;
+use super::mesh_faces::MeshObstacle;
 use super::motion::{ObstacleMotion, RigidVelocity};
 use super::params::{Obstacle, ObstacleShape};
 use crate::math::{Real, Vec3};
@@ -44,7 +45,7 @@ pub(crate) enum Geometry {
     /// Box centred at the pose origin.
     Cuboid(Cuboid),
     /// Closed, outward-oriented triangle mesh (vertices already in world coordinates).
-    Mesh(Box<TriMesh>),
+    Mesh(Box<MeshObstacle>),
 }
 
 /// Closest surface point of an obstacle to a query point (world frame).
@@ -186,7 +187,7 @@ impl Solid {
             Geometry::Ball(s) => aabb_of(s, &pose),
             Geometry::Cylinder(s) => aabb_of(s, &pose),
             Geometry::Cuboid(s) => aabb_of(s, &pose),
-            Geometry::Mesh(s) => aabb_of(s.as_ref(), &pose),
+            Geometry::Mesh(s) => aabb_of(&s.shape, &pose),
         };
         let mut obstacle = Solid {
             geometry,
@@ -303,7 +304,7 @@ impl Solid {
             Geometry::Ball(s) => s,
             Geometry::Cylinder(s) => s,
             Geometry::Cuboid(s) => s,
-            Geometry::Mesh(s) => s.as_ref(),
+            Geometry::Mesh(s) => &s.shape,
         }
     }
 
@@ -316,7 +317,7 @@ impl Solid {
     #[cfg(test)]
     pub fn mesh(&self) -> Option<&TriMesh> {
         match &self.geometry {
-            Geometry::Mesh(m) => Some(m),
+            Geometry::Mesh(m) => Some(&m.shape),
             _ => None,
         }
     }
@@ -348,9 +349,12 @@ impl Solid {
                 return cylinder_entry(s.half_height, s.radius, local_origin, local_dir, 1.0)
                     .map(|(t, n)| (t, self.pose.rotation * n));
             }
-            Geometry::Mesh(m) => {
-                m.cast_ray_with_culling(&self.pose, &ray, 1.0, RayCullingMode::IgnoreBackfaces)
-            }
+            Geometry::Mesh(m) => m.shape.cast_ray_with_culling(
+                &self.pose,
+                &ray,
+                1.0,
+                RayCullingMode::IgnoreBackfaces,
+            ),
             Geometry::Ground(s) => s.cast_ray_and_get_normal(&self.pose, &ray, 1.0, true),
             Geometry::Ball(s) => s.cast_ray_and_get_normal(&self.pose, &ray, 1.0, true),
             Geometry::Cuboid(s) => s.cast_ray_and_get_normal(&self.pose, &ray, 1.0, true),
@@ -367,7 +371,7 @@ impl Solid {
             Geometry::Ball(s) => s.project_point(&self.pose, p, false),
             Geometry::Cylinder(s) => s.project_point(&self.pose, p, false),
             Geometry::Cuboid(s) => s.project_point(&self.pose, p, false),
-            Geometry::Mesh(s) => s.project_point(&self.pose, p, false),
+            Geometry::Mesh(s) => s.shape.project_point(&self.pose, p, false),
         };
         self.finish(p, proj)
     }
@@ -389,9 +393,12 @@ impl Solid {
                         return (proj.distance < band).then_some(proj);
                     }
                 }
-                match m.project_point_with_max_dist(&self.pose, p, false, band.max(0.0)) {
+                match m
+                    .shape
+                    .project_point_with_max_dist(&self.pose, p, false, band.max(0.0))
+                {
                     Some(proj) => self.finish(p, proj),
-                    None if self.mesh_inside(m, p) => self.project(p),
+                    None if self.mesh_inside(&m.shape, p) => self.project(p),
                     None => return None,
                 }
             }
@@ -475,7 +482,7 @@ impl Solid {
                     Vector::new(local.x / planar, 0.0, local.z / planar)
                 }
             }
-            Geometry::Mesh(m) => m.triangle_normal(subshape).unwrap_or(Vector::Z),
+            Geometry::Mesh(m) => m.shape.triangle_normal(subshape).unwrap_or(Vector::Z),
         };
         self.pose.rotation * n
     }
@@ -530,7 +537,7 @@ fn mesh_geometry(
         index,
         message: format!("mesh `{}`: {e}", file.display()),
     })?;
-    Ok(Geometry::Mesh(Box::new(mesh)))
+    Ok(Geometry::Mesh(Box::new(MeshObstacle::new(mesh))))
 }
 
 fn aabb_of(shape: &dyn Shape, pose: &Pose) -> (Vector, Vector) {
