@@ -2,11 +2,14 @@
 //! [`super::faces`]'s mesh case, and the obstacle's per-vertex data they read.
 //!
 //! The tip test follows each obstacle vertex near the triangle along its unit pseudo-normal to
-//! the triangle's plane. Those normals are taken once, when the obstacle is built
-//! ([`MeshObstacle::new`]), and each query looks at a mesh vertex once, however many of the
-//! triangles the tree returns share it (a vertex of a closed mesh belongs to about six): a vertex
-//! seen again could not change the answer, since its distance is the same and only a strictly
-//! smaller one replaces the best.
+//! the triangle's plane. Its candidates are the vertices of the mesh triangles whose bounding box
+//! meets the query box (the triangle's, grown by its longest edge). Two ways find them, with the
+//! same set: parry's tree over the triangles, each vertex looked at once however many of the
+//! returned triangles share it (a vertex of a closed mesh belongs to about six), for a box over
+//! a small part of the mesh; and a scan of the vertices by the box of their triangles
+//! ([`MeshObstacle::new`] takes those boxes once, with the unit normals) for a box over much of
+//! it, as a coarse cloth's is. The answer does not depend on the order the vertices are looked
+//! at in: the smallest distance wins, and between equal distances the smaller vertex index.
 
 use super::faces::{bounds, TriangleContact, DEGENERATE_LENGTH};
 use super::shape::Solid;
@@ -16,7 +19,11 @@ use parry3d_f64::math::Vector;
 use parry3d_f64::shape::TriMesh;
 use std::cell::RefCell;
 
-/// A mesh obstacle: parry's triangle mesh and its vertices' unit pseudo-normals.
+/// A query box over more than this share of the mesh's bounding box (by volume) scans the
+/// vertices instead of walking the tree.
+const SCAN_SHARE: Real = 0.125;
+
+/// A mesh obstacle: parry's triangle mesh and, per vertex, what the tip test reads.
 #[derive(Clone)]
 pub(crate) struct MeshObstacle {
     /// The mesh, vertices in the obstacle's own frame (m).
@@ -24,10 +31,18 @@ pub(crate) struct MeshObstacle {
     /// Per vertex, its pseudo-normal normalised (`None` where it has no direction); `None` when
     /// the mesh has no pseudo-normals (the tip test then finds nothing).
     unit_normals: Option<Vec<Option<Vector>>>,
+    /// Per triangle, its bounding box (m): the tree's leaf boxes, computed the same way.
+    triangle_boxes: Vec<Aabb>,
+    /// Per vertex, the union of its triangles' boxes (m).
+    star_boxes: Vec<Aabb>,
+    /// The triangles of vertex `v` are `star[star_start[v]..star_start[v + 1]]`.
+    star_start: Vec<usize>,
+    star: Vec<u32>,
 }
 
 impl MeshObstacle {
-    /// The obstacle of `shape`, its unit pseudo-normals taken once.
+    /// The obstacle of `shape`, its unit pseudo-normals and the boxes of its triangles taken
+    /// once.
     pub fn new(shape: TriMesh) -> Self {
         let unit_normals = shape.pseudo_normals().map(|normals| {
             normals
@@ -36,11 +51,88 @@ impl MeshObstacle {
                 .map(|n| n.try_normalize())
                 .collect()
         });
+        let vertices = shape.vertices();
+        let triangle_boxes: Vec<Aabb> = shape
+            .indices()
+            .iter()
+            .map(|t| {
+                let (lo, hi) = bounds(t.map(|i| vertices[i as usize]));
+                Aabb::new(lo, hi)
+            })
+            .collect();
+        let mut star_start = vec![0; vertices.len() + 1];
+        for t in shape.indices() {
+            for &i in t {
+                star_start[i as usize + 1] += 1;
+            }
+        }
+        for v in 0..vertices.len() {
+            star_start[v + 1] += star_start[v];
+        }
+        let mut next = star_start.clone();
+        let mut star = vec![0; star_start[vertices.len()]];
+        for (k, t) in shape.indices().iter().enumerate() {
+            for &i in t {
+                star[next[i as usize]] = k as u32;
+                next[i as usize] += 1;
+            }
+        }
+        let star_boxes = (0..vertices.len())
+            .map(|v| {
+                star[star_start[v]..star_start[v + 1]]
+                    .iter()
+                    .map(|&k| triangle_boxes[k as usize])
+                    .reduce(|a, b| Aabb::new(a.mins.min(b.mins), a.maxs.max(b.maxs)))
+                    .unwrap_or_else(|| Aabb::new(vertices[v], vertices[v]))
+            })
+            .collect();
         MeshObstacle {
             shape,
             unit_normals,
+            triangle_boxes,
+            star_boxes,
+            star_start,
+            star,
         }
     }
+
+    /// Whether vertex `v` belongs to a triangle whose box meets `query` (boxes closed, as the
+    /// tree's test).
+    fn candidate(&self, v: usize, query: &Aabb) -> bool {
+        overlap(&self.star_boxes[v], query)
+            && self.star[self.star_start[v]..self.star_start[v + 1]]
+                .iter()
+                .any(|&k| overlap(&self.triangle_boxes[k as usize], query))
+    }
+
+    /// Calls `visit` with every vertex of the triangles whose box meets `query`, each once.
+    fn for_each_candidate(&self, query: &Aabb, mut visit: impl FnMut(usize)) {
+        let whole = self.shape.local_aabb();
+        let share = whole.intersection(query).map_or(0.0, |inside| {
+            inside.volume() / whole.volume().max(Real::MIN_POSITIVE)
+        });
+        if share > SCAN_SHARE {
+            (0..self.star_boxes.len())
+                .filter(|&v| self.candidate(v, query))
+                .for_each(visit);
+            return;
+        }
+        SEEN.with_borrow_mut(|seen| {
+            seen.start(self.star_boxes.len());
+            for part in self.shape.bvh().intersect_aabb(query) {
+                for &v in &self.shape.indices()[part as usize] {
+                    if seen.first(v as usize) {
+                        visit(v as usize);
+                    }
+                }
+            }
+        });
+    }
+}
+
+/// Whether the closed boxes `a` and `b` overlap (parry's tree test).
+fn overlap(a: &Aabb, b: &Aabb) -> bool {
+    a.mins.cmple(b.maxs).all() && a.maxs.cmpge(b.mins).all()
 }
 
 /// Marks of the mesh vertices one query has looked at: vertex `i` was seen when `mark[i]` is
@@ -81,8 +173,8 @@ thread_local! {
 /// more than the triangle's longest edge below it are not looked at, and a vertex counts as
 /// through the triangle only when the triangle's point on its normal line is inside the solid (a
 /// vertex on the far side of the mesh meets the triangle from behind, through the solid, with
-/// the triangle's point outside). Worked in the mesh's own frame (a moving mesh's triangle is
-/// brought there, the contact taken back).
+/// the triangle's point outside). Of equally deep vertices, the smallest index. Worked in the
+/// mesh's own frame (a moving mesh's triangle is brought there, the contact taken back).
 pub(super) fn mesh_contact(
     solid: &Solid,
     mesh: &MeshObstacle,
@@ -100,50 +192,39 @@ pub(super) fn mesh_contact(
     let reach = (b - a).length().max((c - b).length()).max((a - c).length());
     let pad = Vector::splat(reach.max(band));
     let (lo, hi) = bounds(tri);
-    let aabb = Aabb::new(lo - pad, hi + pad);
     let unit = n / area2;
     let vertices = mesh.shape.vertices();
-    let mut best: Option<TriangleContact> = None;
-    SEEN.with_borrow_mut(|seen| {
-        seen.start(vertices.len());
-        for part in mesh.shape.bvh().intersect_aabb(&aabb) {
-            for &vi in &mesh.shape.indices()[part as usize] {
-                let vi = vi as usize;
-                if !seen.first(vi) {
-                    continue;
-                }
-                let Some(np) = normals[vi] else {
-                    continue;
-                };
-                let p = vertices[vi];
-                let facing = np.dot(unit);
-                if facing.abs() <= 1e-9 {
-                    continue;
-                }
-                // Along the normal line to the plane, then measured across the plane: how far
-                // the triangle lies above (positive) or below the vertex.
-                let s = (a - p).dot(unit) / facing;
-                let distance = s * facing.abs();
-                if distance >= band
-                    || s < -reach
-                    || best.is_some_and(|best| distance >= best.distance)
-                {
-                    continue;
-                }
-                let r = p + np * s;
-                if inside_triangle(r, tri, n)
-                    && (s >= 0.0 || solid.depth(solid.world_point(r)) > 0.0)
-                {
-                    best = Some(TriangleContact {
-                        point: r,
-                        normal: unit * facing.signum(),
-                        distance,
-                    });
-                }
-            }
+    let mut best: Option<(TriangleContact, usize)> = None;
+    mesh.for_each_candidate(&Aabb::new(lo - pad, hi + pad), |vi| {
+        let Some(np) = normals[vi] else {
+            return;
+        };
+        let p = vertices[vi];
+        let facing = np.dot(unit);
+        if facing.abs() <= 1e-9 {
+            return;
+        }
+        // Along the normal line to the plane, then measured across the plane: how far the
+        // triangle lies above (positive) or below the vertex.
+        let s = (a - p).dot(unit) / facing;
+        let distance = s * facing.abs();
+        let deeper = best.is_none_or(|(best, bi)| {
+            distance < best.distance || (distance == best.distance && vi < bi)
+        });
+        if distance >= band || s < -reach || !deeper {
+            return;
+        }
+        let r = p + np * s;
+        if inside_triangle(r, tri, n) && (s >= 0.0 || solid.depth(solid.world_point(r)) > 0.0) {
+            let contact = TriangleContact {
+                point: r,
+                normal: unit * facing.signum(),
+                distance,
+            };
+            best = Some((contact, vi));
         }
     });
-    best.map(|c| TriangleContact {
+    best.map(|(c, _)| TriangleContact {
         point: solid.world_point(c.point),
         normal: solid.world_vector(c.normal),
         ..c
@@ -221,7 +302,7 @@ mod tests {
     }
 
     /// The tip test as it was written first: every vertex of every triangle the tree returns,
-    /// its pseudo-normal normalised at each visit.
+    /// its pseudo-normal normalised at each visit; of equal distances the smaller vertex index.
     fn every_visit(solid: &Solid, tri: [Vector; 3], band: Real) -> Option<TriangleContact> {
         let Geometry::Mesh(mesh) = solid.geometry() else {
             panic!("a mesh obstacle")
@@ -239,7 +320,7 @@ mod tests {
         let pad = Vector::splat(reach.max(band));
         let (lo, hi) = bounds(tri);
         let unit = n / area2;
-        let mut best: Option<TriangleContact> = None;
+        let mut best: Option<(TriangleContact, u32)> = None;
         for part in mesh.bvh().intersect_aabb(&Aabb::new(lo - pad, hi + pad)) {
             for &vi in &mesh.indices()[part as usize] {
                 let p = mesh.vertices()[vi as usize];
@@ -252,25 +333,26 @@ mod tests {
                 }
                 let s = (a - p).dot(unit) / facing;
                 let distance = s * facing.abs();
-                if distance >= band
-                    || s < -reach
-                    || best.is_some_and(|best| distance >= best.distance)
-                {
+                let deeper = best.is_none_or(|(best, bi)| {
+                    distance < best.distance || (distance == best.distance && vi < bi)
+                });
+                if distance >= band || s < -reach || !deeper {
                     continue;
                 }
                 let r = p + np * s;
                 if inside_triangle(r, tri, n)
                     && (s >= 0.0 || solid.depth(solid.world_point(r)) > 0.0)
                 {
-                    best = Some(TriangleContact {
+                    let contact = TriangleContact {
                         point: r,
                         normal: unit * facing.signum(),
                         distance,
-                    });
+                    };
+                    best = Some((contact, vi));
                 }
             }
         }
-        best.map(|c| TriangleContact {
+        best.map(|(c, _)| TriangleContact {
             point: solid.world_point(c.point),
             normal: solid.world_vector(c.normal),
             ..c
@@ -280,10 +362,11 @@ mod tests {
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(300))]
 
-        /// Each vertex looked at once, its normal taken once: the same contact, bit for bit, as
-        /// every visit with the normal normalised each time, over triangles of 1 mm to 30 cm in
-        /// and around the bunny, queried one after the other (the marks of one query must not
-        /// hide a vertex from the next).
+        /// Each vertex looked at once (by the tree for small triangles, by the scan for large
+        /// ones), its normal taken once: the same contact, bit for bit, as every visit with the
+        /// normal normalised each time, over triangles of 1 mm to 30 cm in and around the bunny,
+        /// queried one after the other (the marks of one query must not hide a vertex from the
+        /// next).
         #[test]
         fn looking_at_each_vertex_once_finds_the_same_contact(
             queries in prop::collection::vec(
