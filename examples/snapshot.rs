@@ -6,32 +6,74 @@
 //! Picks, for each time, the frame whose time is nearest. Writes `OUT.png` (the grid) and
 //! `OUT-<k>.png` (the last chosen frame of run k alone, 480 x 360), `OUT.html` (a report page with
 //! the grid and a 3D replay of every frame of every run) and prints the render times.
+//! Bad input (a time that is not a finite number >= 0 or lies past a run's last frame, a missing
+//! argument, a bad scene or run folder) exits with status 2 and says which; a failure to write
+//! exits with 1.
 use adaptcloth::report::html::{write_report_html, HtmlSection, ReplayRun};
 use adaptcloth::report::pictures::{frame_times, pick_frames};
 use adaptcloth::report::render::{self, FrameMesh, SnapshotRow};
-use anyhow::{bail, Context, Result};
+use anyhow::Result;
 use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 use std::time::Instant;
 
-fn main() -> Result<()> {
+/// Input the example cannot use: exit status 2.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+struct BadInput(String);
+
+fn main() -> ExitCode {
+    match snapshot() {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            let bad = e.downcast_ref::<BadInput>().is_some()
+                || e.downcast_ref::<adaptcloth::scene::SceneError>().is_some();
+            ExitCode::from(if bad { 2 } else { 1 })
+        }
+    }
+}
+
+/// The times of the `T1,T2,...` argument: finite numbers >= 0 (s).
+fn parse_times(arg: &str) -> Result<Vec<f64>, BadInput> {
+    arg.split(',')
+        .map(|t| match t.trim().parse::<f64>() {
+            Ok(v) if v.is_finite() && v >= 0.0 => Ok(v),
+            _ => Err(BadInput(format!(
+                "times `{arg}`: `{t}` is not a time; expected finite numbers of seconds >= 0 \
+                 separated by commas (0,0.2,0.4)"
+            ))),
+        })
+        .collect()
+}
+
+fn snapshot() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     if args.len() < 4 {
-        bail!("usage: snapshot SCENE.toml OUT.png T1,T2,... RUN_DIR[=LABEL]...");
+        return Err(BadInput(
+            "usage: snapshot SCENE.toml OUT.png T1,T2,... RUN_DIR[=LABEL]...".into(),
+        )
+        .into());
     }
     let loaded = adaptcloth::scene::load(Path::new(&args[0]), &[])?;
     let out = PathBuf::from(&args[1]);
-    let times: Vec<f64> = args[2]
-        .split(',')
-        .map(|t| t.parse().context("times"))
-        .collect::<Result<_>>()?;
+    let times = parse_times(&args[2])?;
     let obstacles = render::obstacle_meshes(&loaded.scene.obstacles, &loaded.base_dir)?;
     let mut rows = Vec::new();
     let mut replays = Vec::new();
     for run in &args[3..] {
         let (dir, label) = run.split_once('=').unwrap_or((run, run));
         let frames = frame_times(Path::new(dir));
-        if frames.is_empty() {
-            bail!("{dir}: no frames");
+        let Some(last) = frames.iter().map(|(t, _)| *t).reduce(f64::max) else {
+            return Err(BadInput(format!("{dir}: no frames (expected a run folder)")).into());
+        };
+        // Half a millisecond of slack: frame times are written rounded.
+        if let Some(t) = times.iter().find(|&&t| t > last + 5e-4) {
+            return Err(BadInput(format!(
+                "time {t:?} s is past the last frame of {dir} (t = {last:?} s); expected times \
+                 within the run"
+            ))
+            .into());
         }
         let mut row = SnapshotRow {
             label: label.to_string(),

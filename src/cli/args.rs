@@ -81,7 +81,9 @@ pub enum Command {
     },
     /// Render one OBJ frame (cloth, edges visible) to a PNG, with a scene's obstacles if given.
     Render(RenderArgs),
-    /// RMS and largest distance between the vertices of two frames of the same mesh (m).
+    /// RMS and largest distance between the vertices of two frames of the same mesh (m). The
+    /// frames must have the same vertices, faces and rest coordinates (`vt`), else exit 2 saying
+    /// what differs.
     FrameDiff {
         /// First frame (OBJ).
         a: PathBuf,
@@ -300,7 +302,7 @@ pub struct RunArgs {
 pub struct RenderArgs {
     /// The frame (OBJ, e.g. out/sphere-remesh/frames/frame_00018.obj).
     pub frame: PathBuf,
-    /// The PNG to write.
+    /// The PNG to write (its name must end in .png: no other format is written).
     #[arg(long)]
     pub out: PathBuf,
     /// Scene file or embedded scene name whose obstacles are drawn too. Default: the

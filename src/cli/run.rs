@@ -18,7 +18,7 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
     let loaded = scene::resolve(args.scene.as_deref(), &overrides)?;
     loaded.check_run()?;
     let setup = |e| match e {
-        SetupError::OffPattern { .. } => CliError::Input(e.to_string()),
+        SetupError::OffPattern { .. } | SetupError::Scene(_) => CliError::Input(e.to_string()),
         e => CliError::Input(format!("{}: {e}", loaded.source)),
     };
     let mut simulation = Simulation::new(&loaded).map_err(setup)?;
@@ -83,6 +83,16 @@ pub fn scenes() -> Result<(), CliError> {
 /// `adaptcloth render`: one frame (and the scene's obstacles) to a PNG.
 pub fn render(args: RenderArgs) -> Result<(), CliError> {
     let input = |e: &dyn std::fmt::Display| CliError::Input(e.to_string());
+    if !args
+        .out
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("png"))
+    {
+        return Err(CliError::Input(format!(
+            "--out {}: expected a file name ending in .png (render writes PNG pictures only)",
+            args.out.display()
+        )));
+    }
     let mesh = FrameMesh::read(&args.frame).map_err(|e| input(&e))?;
     // Without --scene, the scene the run recorded beside its frames folder.
     let recorded = args

@@ -3,9 +3,15 @@
 /// Why the obstacles of a scene could not be built.
 #[derive(Debug, thiserror::Error)]
 pub enum CollisionError {
-    /// An OBJ mesh file could not be read or parsed (names the file and the line).
-    #[error(transparent)]
-    MeshFile(#[from] crate::io::ObjError),
+    /// An obstacle's OBJ mesh file could not be read or parsed (the error names the file and the
+    /// line).
+    #[error("obstacle {index}: {source}")]
+    MeshFile {
+        /// Index of the obstacle in the scene's `[[obstacles]]` list.
+        index: usize,
+        /// Why the file could not be read.
+        source: crate::io::ObjError,
+    },
     /// An obstacle's geometry is invalid (non-positive or non-finite size, bad mesh, ...).
     #[error("obstacle {index}: {message}")]
     BadShape {

@@ -500,7 +500,8 @@ fn mesh_geometry(
 ) -> Result<Geometry, CollisionError> {
     let scale = positive(index, "mesh scale", scale)?;
     let translation = finite3(index, "mesh translation", translation)?;
-    let obj = crate::io::read_obj(file)?;
+    let obj =
+        crate::io::read_obj(file).map_err(|source| CollisionError::MeshFile { index, source })?;
     if obj.faces.is_empty() {
         return Err(CollisionError::BadShape {
             index,

@@ -457,7 +457,10 @@ fn build_rejects_bad_shapes_and_files() {
     assert!(
         matches!(
             err,
-            CollisionError::MeshFile(crate::io::ObjError::Io { .. })
+            CollisionError::MeshFile {
+                index: 0,
+                source: crate::io::ObjError::Io { .. }
+            }
         ),
         "{err}"
     );
@@ -484,7 +487,10 @@ fn mesh_obstacle_files_report_the_line_and_need_faces() {
     assert!(
         matches!(
             err,
-            CollisionError::MeshFile(crate::io::ObjError::Parse { line: 3, .. })
+            CollisionError::MeshFile {
+                index: 0,
+                source: crate::io::ObjError::Parse { line: 3, .. }
+            }
         ),
         "{err}"
     );

@@ -287,8 +287,8 @@ pub fn cache_key(base: &LoadedScene, settings: &ReferenceSettings) -> String {
     let mut h = fnv1a(FNV_OFFSET, keyed.to_string().as_bytes());
     for file in mesh_files(&reference) {
         h = fnv1a(h, file.display().to_string().as_bytes());
-        match std::fs::read(&file) {
-            Ok(bytes) => h = fnv1a(h, &bytes),
+        match crate::io::read_text(&file) {
+            Ok(text) => h = fnv1a(h, text.as_bytes()),
             Err(_) => h = fnv1a(h, b"<unreadable>"),
         }
     }
@@ -310,8 +310,8 @@ fn mesh_files(l: &LoadedScene) -> Vec<PathBuf> {
     files
         .into_iter()
         .map(|f| {
-            let full = l.base_dir.join(&f);
-            if full.exists() {
+            let full = crate::scene::mesh_path(&l.base_dir, &f.to_string_lossy());
+            if full.exists() || crate::io::is_embedded_path(&full) {
                 full
             } else {
                 f

@@ -1,4 +1,5 @@
-//! Files: the one OBJ reader and writer ([`obj`]), the metrics table a run streams
+//! Files: the one OBJ reader and writer ([`obj`]), the files built into the binary (under
+//! `<embedded>/`: the embedded scenes' meshes), the metrics table a run streams
 //! ([`MetricsWriter`]), numeric CSV reading, and whole-file atomic writes. Every file is written
 //! so that a partially written file never looks complete: whole files go through a temporary name
 //! and a rename ([`write_atomic`]); the streamed metrics table is `metrics.csv.partial` until the
@@ -7,9 +8,11 @@
 //! Where it sits: at the bottom, beside `math`: it knows file formats, not meshes or physics.
 
 mod decimal;
+mod embedded;
 mod metrics;
 pub mod obj;
 
+pub use embedded::{embedded_text, is_embedded_path, EMBEDDED_DIR};
 pub use metrics::{MetricsRow, MetricsWriter};
 pub use obj::{
     frame_path, is_frame_name, read_frame_time, read_obj, write_frame, ObjError, ObjFile,
@@ -94,9 +97,15 @@ pub(crate) fn create_for_writing(path: &Path) -> std::io::Result<std::fs::File> 
     std::fs::File::create(path)
 }
 
-/// The text of the regular file `path`. A folder, a device, a pipe or a socket is refused with
-/// an `InvalidInput` error saying so, before reading: `/dev/zero` would never end.
+/// The text of the regular file `path`, or of the built-in file a path under `<embedded>/` names
+/// ([`embedded_text`]). A folder, a device, a pipe or a socket is refused with an `InvalidInput`
+/// error saying so, before reading: `/dev/zero` would never end.
 pub fn read_text(path: &Path) -> std::io::Result<String> {
+    if is_embedded_path(path) {
+        return embedded_text(path)
+            .map(str::to_string)
+            .ok_or_else(|| embedded::not_built_in(path));
+    }
     let meta = std::fs::metadata(path)?;
     if !meta.is_file() {
         let what = if meta.is_dir() {

@@ -1,7 +1,7 @@
 //! Conversions from the scene's serde types to the core's own parameter types: the scene
 //! depends on the core, never the reverse. Every conversion copies values as they are (the
 //! scene's defaults equal the core's documented defaults); mesh files are resolved against the
-//! scene's folder.
+//! scene's folder ([`mesh_path`]).
 
 use super::spec::{
     AdaptivitySpec, CollisionMode, CollisionSpec, CriteriaSpec, ForcesSpec, IntegratorSpec,
@@ -13,7 +13,23 @@ use crate::adapt::{self, AdaptParams};
 use crate::collision::{self, ContactParams};
 use crate::math::Vec3;
 use crate::physics::{self, Forces, IntegratorParams, Material};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+
+/// The file a scene's mesh key (`cloth.mesh`, `obstacles.N.file`) names: `file` under the scene's
+/// folder `base_dir`. A path under `<embedded>/` names a mesh built into the binary wherever the
+/// scene is; an embedded scene (`base_dir` is `<embedded>`) reads its relative names from the
+/// built-in meshes, or from the current folder when none has that name.
+pub fn mesh_path(base_dir: &Path, file: &str) -> PathBuf {
+    let file = Path::new(file);
+    if crate::io::is_embedded_path(file) {
+        return file.to_path_buf();
+    }
+    let path = base_dir.join(file);
+    if crate::io::is_embedded_path(base_dir) && crate::io::embedded_text(&path).is_none() {
+        return file.to_path_buf();
+    }
+    path
+}
 
 impl From<StiffnessModel> for physics::StiffnessModel {
     fn from(s: StiffnessModel) -> Self {
@@ -129,7 +145,7 @@ impl ObstacleSpec {
                 scale,
                 translation,
             } => collision::ObstacleShape::Mesh {
-                file: base_dir.join(file),
+                file: mesh_path(base_dir, file),
                 scale: *scale,
                 translation: *translation,
             },

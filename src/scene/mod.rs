@@ -7,12 +7,15 @@
 //! own parameter types (`From<&MaterialSpec> for physics::Material`, ...,
 //! [`ObstacleSpec::to_core`], [`LoadedScene::obstacles`]).
 
+mod adaptivity;
 mod convert;
 mod diagnose;
 mod motion;
+mod sections;
 mod spec;
 mod validate;
 
+pub use convert::mesh_path;
 pub use diagnose::plain_types;
 pub use spec::*;
 pub use validate::MAX_STEPS;
@@ -69,12 +72,22 @@ impl LoadedScene {
     /// criteria need a strategy that adapts the mesh. Called on a run's final scene (`run`, each
     /// run of a study); a study's base scene is a template whose strategy its runs replace.
     pub fn check_run(&self) -> Result<(), SceneError> {
-        let checker = validate::Checker {
+        adaptivity::criteria_need_adaptivity(&self.checker(), &self.scene.adaptivity)
+    }
+
+    /// Fails when `adaptivity.max_vertices` is below `start`, the vertex count of the cloth as
+    /// built: for an OBJ cloth, whose count [`validate`] cannot know before the file is read.
+    pub fn check_start_vertices(&self, start: usize) -> Result<(), SceneError> {
+        let max = self.scene.adaptivity.max_vertices;
+        adaptivity::room_for_cloth(&self.checker(), max, start)
+    }
+
+    fn checker(&self) -> validate::Checker<'_> {
+        validate::Checker {
             text: &self.text,
             source: &self.source,
             options: &self.options,
-        };
-        validate::criteria_need_adaptivity(&checker, &self.scene.adaptivity)
+        }
     }
 }
 
@@ -221,7 +234,8 @@ impl Overrides {
     }
 }
 
-/// The scene named on the command line: a TOML file if `name` is a path that exists, else the
+/// The scene named on the command line: a TOML file if `name` is a path that exists (a file comes
+/// first, even one named like an embedded scene: its read or parse error then says so), else the
 /// embedded scene of that name, else (no name) the default scene; with `overrides` applied and
 /// validated.
 pub fn resolve(name: Option<&str>, overrides: &Overrides) -> Result<LoadedScene, SceneError> {
@@ -230,9 +244,32 @@ pub fn resolve(name: Option<&str>, overrides: &Overrides) -> Result<LoadedScene,
     };
     let path = Path::new(name);
     if path.exists() {
-        return load_with(path, overrides);
+        return load_with(path, overrides).map_err(|e| shadowing(name, e));
     }
     embedded_with(name, overrides).ok_or_else(|| not_found(name))?
+}
+
+/// `e`, the error reading or parsing the file `name`, saying that the file hides the embedded
+/// scene of the same name when there is one.
+fn shadowing(name: &str, e: SceneError) -> SceneError {
+    if !embedded_names().contains(&name) {
+        return e;
+    }
+    let hint = format!(
+        "(the file `{name}` here is read instead of the embedded scene `{name}`: a file comes \
+         first; to run the embedded scene, rename or move the file, or run from another folder)"
+    );
+    match e {
+        SceneError::Io { path, source } => SceneError::Io {
+            path,
+            source: std::io::Error::new(source.kind(), format!("{source} {hint}")),
+        },
+        SceneError::Parse { path, message } => SceneError::Parse {
+            path,
+            message: format!("{message} {hint}"),
+        },
+        e => e,
+    }
 }
 
 /// The names of the embedded scenes, in [`EMBEDDED_SCENES`]' order.
@@ -285,9 +322,9 @@ pub fn load_with(path: &Path, overrides: &Overrides) -> Result<LoadedScene, Scen
     from_text_with(&text, &source, &stem, base_dir, overrides)
 }
 
-/// Loads an embedded scene by name (see [`EMBEDDED_SCENES`]) with `--set` overrides; relative
-/// mesh paths resolve against the `scenes/` folder of the source tree when it exists, else the
-/// current folder.
+/// Loads an embedded scene by name (see [`EMBEDDED_SCENES`]) with `--set` overrides; its relative
+/// mesh paths name the meshes built into the binary (`<embedded>/meshes/bunny.obj`), else files of
+/// the current folder ([`mesh_path`]).
 pub fn load_embedded(name: &str, overrides: &[String]) -> Option<Result<LoadedScene, SceneError>> {
     embedded_with(name, &Overrides::set(overrides))
 }
@@ -295,12 +332,7 @@ pub fn load_embedded(name: &str, overrides: &[String]) -> Option<Result<LoadedSc
 /// Loads an embedded scene by name with overrides.
 fn embedded_with(name: &str, overrides: &Overrides) -> Option<Result<LoadedScene, SceneError>> {
     let (_, text) = EMBEDDED_SCENES.iter().find(|(n, _)| *n == name)?;
-    let base_dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
-    let base_dir = if base_dir.is_dir() {
-        base_dir
-    } else {
-        PathBuf::from(".")
-    };
+    let base_dir = PathBuf::from(crate::io::EMBEDDED_DIR);
     Some(from_text_with(
         text,
         &format!("<embedded {name}>"),
@@ -352,6 +384,9 @@ fn from_text_with(
                 message: plain_types(e.to_string().trim_end()),
             })
     })?;
+    if let Ok(given) = toml::from_str::<toml::Table>(text) {
+        sections::check(&given, &scene, &checker)?;
+    }
     let mut scene = apply_settings(scene, &overrides.set, &checker)?;
     overrides.apply_typed(&mut scene);
     // The name names output folders: it must stay one safe file-name component.
@@ -421,13 +456,18 @@ fn apply_settings(
     })?;
     for setting in settings {
         apply_override(&mut table, setting)?;
-        if let Err(e) = Scene::deserialize(toml::Value::Table(table.clone())) {
-            return Err(
-                diagnose::obstacle_error(&table, checker).unwrap_or_else(|| SceneError::Parse {
-                    path: setting.place(),
-                    message: plain_types(&e.to_string().trim_end().replace('\n', " ")),
-                }),
-            );
+        match Scene::deserialize(toml::Value::Table(table.clone())) {
+            Ok(scene) => sections::check(&table, &scene, checker)?,
+            Err(e) => {
+                return Err(
+                    diagnose::obstacle_error(&table, checker).unwrap_or_else(|| {
+                        SceneError::Parse {
+                            path: setting.place(),
+                            message: plain_types(&e.to_string().trim_end().replace('\n', " ")),
+                        }
+                    }),
+                )
+            }
         }
     }
     Scene::deserialize(toml::Value::Table(table)).map_err(|e| SceneError::Parse {
@@ -437,13 +477,18 @@ fn apply_settings(
 }
 
 /// The scene after every override as TOML that loads back to the same scene from any folder
-/// (relative mesh paths made absolute), headed by comments naming the binary's version, the
+/// (relative mesh paths made absolute; a built-in mesh kept as `<embedded>/...`), headed by comments naming the binary's version, the
 /// command that ran it and where the scene came from. Runs write it as `scene.resolved.toml`.
 pub fn resolved_toml(loaded: &LoadedScene, command: &str) -> String {
     let mut scene = loaded.scene.clone();
     let absolute = |f: &str| {
-        let p = loaded.base_dir.join(f);
-        std::path::absolute(&p).unwrap_or(p).display().to_string()
+        let p = mesh_path(&loaded.base_dir, f);
+        match crate::io::is_embedded_path(&p) {
+            true => p,
+            false => std::path::absolute(&p).unwrap_or(p),
+        }
+        .display()
+        .to_string()
     };
     if !scene.cloth.mesh.is_empty() {
         scene.cloth.mesh = absolute(&scene.cloth.mesh);

@@ -218,8 +218,22 @@ fn a_strategy_specific_key_set_for_a_strategy_that_ignores_it_is_rejected() {
         let e = load_text("", &[&strategy, &key]).unwrap_err();
         assert!(matches!(e, SceneError::Invalid { .. }), "{key}: {e}");
     }
-    // The strategies that read a key accept it; the static baseline accepts everything; the
-    // default value is accepted everywhere.
+    // The static baseline reads none of them (trial report C1: it was exempt).
+    for key in [
+        "max_depth=5",
+        "remesh_min_angle=10",
+        "force_completion=true",
+    ] {
+        let key = format!("adaptivity.{key}");
+        let e = load_text("", &["adaptivity.strategy=static", &key])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("strategy `static` ignores this key"),
+            "{key}: {e}"
+        );
+    }
+    // The strategies that read a key accept it; the default value is accepted everywhere.
     load_text(
         "",
         &[
@@ -235,7 +249,7 @@ fn a_strategy_specific_key_set_for_a_strategy_that_ignores_it_is_rejected() {
     .unwrap();
     load_text(
         "",
-        &["adaptivity.max_depth=4", "adaptivity.remesh_min_angle=20"],
+        &["adaptivity.strategy=static", "adaptivity.max_depth=3"],
     )
     .unwrap();
     load_text(
@@ -271,16 +285,24 @@ fn the_resolved_scene_loads_back_to_the_same_scene_from_another_folder() {
         let path = dir.path().join("scene.resolved.toml");
         std::fs::write(&path, &text).unwrap();
         let back = load(&path, &[]).unwrap();
-        // Mesh files are absolute, so only their spelling may differ.
+        // Mesh files are absolute or built in, so only their spelling may differ: the embedded
+        // bunny's is the built-in copy (trial report A7).
         let mut want = loaded.scene.clone();
         for (o, b) in want.obstacles.iter_mut().zip(&back.scene.obstacles) {
             if let (ObstacleShape::Mesh { file, .. }, ObstacleShape::Mesh { file: f2, .. }) =
                 (&mut o.shape, &b.shape)
             {
-                assert!(std::path::Path::new(f2).is_absolute(), "{f2}");
-                assert!(f2.ends_with(file.as_str()), "{f2} vs {file}");
+                assert_eq!(f2, &format!("<embedded>/{file}"));
                 file.clone_from(f2);
             }
+        }
+        let mesh = back.obstacles().into_iter().find_map(|o| match o.shape {
+            crate::collision::ObstacleShape::Mesh { file, .. } => Some(file),
+            _ => None,
+        });
+        if name == "bunny" {
+            let obj = crate::io::read_obj(&mesh.unwrap()).unwrap();
+            assert_eq!((obj.positions.len(), obj.faces.len()), (2002, 4000));
         }
         assert_eq!(back.scene, want, "{name}");
     }
@@ -496,4 +518,101 @@ fn bad_motions_are_rejected_with_key_line_and_expectation() {
         assert!(msg.contains(&format!("test.toml{line}")), "{text}\n{msg}");
         assert!(msg.contains(expected), "{text}\n{msg}");
     }
+}
+
+/// Regression (trial report A3): a list where a section belongs was read positionally
+/// (`material = [1, 2]` set `rho` and `T`); refused like any other non-table value, with the key
+/// and its line or setting, for the sections and every nested table.
+#[test]
+fn a_list_where_a_section_belongs_is_refused() {
+    let expected = "expected a section (a table of keys), not a list";
+    for (text, place) in [
+        (
+            "material = [1.0, 2.0]\n",
+            "test.toml:1: material = [1.0, 2.0]",
+        ),
+        (
+            "name = \"x\"\ntime = [0.05]\n",
+            "test.toml:2: time = [0.05]",
+        ),
+        ("cloth = []\n", "test.toml:1: cloth = []"),
+        (
+            "tracked = [[\"P\", [0.1, 0.2]]]\n",
+            "tracked.0 = [\"P\", [0.1, 0.2]]",
+        ),
+        (
+            "[[obstacles]]\nkind = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.2\n\
+             motion = [\"linear\", [1.0, 0.0, 0.0]]\n",
+            "test.toml:5: obstacles.0.motion = [\"linear\", [1.0, 0.0, 0.0]]",
+        ),
+    ] {
+        let e = load_text(text, &[]).unwrap_err().to_string();
+        assert!(e.contains(place) && e.contains(expected), "{text}: {e}");
+    }
+    for (set, place) in [
+        ("material=[1,2]", "--set material=[1,2]: "),
+        ("cloth=[]", "--set cloth=[]: "),
+        (
+            "tracked=[[\"P\", [0.1, 0.2]]]",
+            "--set tracked=[[\"P\", [0.1, 0.2]]]: tracked.0 = ",
+        ),
+    ] {
+        let e = load_text(text_of("sphere"), &[set])
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with(place) && e.contains(expected), "{set}: {e}");
+    }
+    // Lists where lists belong still read.
+    load_text(text_of("sphere"), &["cloth.pinned=[[0.0, 0.0]]"]).unwrap();
+}
+
+/// Regression (trial report B7): a cap below the cloth's starting vertex count could only fail
+/// the run at its first pass; refused with the count.
+#[test]
+fn max_vertices_below_the_starting_cloth_is_refused() {
+    let e = load_text("", &["adaptivity.max_vertices=24"])
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("--set adaptivity.max_vertices=24: expected at least the 25 vertices"),
+        "{e}"
+    );
+    let disk = [
+        "cloth.shape=\"disk\"",
+        "cloth.resolution=2",
+        "adaptivity.max_vertices=18",
+    ];
+    let e = load_text("", &disk).unwrap_err().to_string();
+    assert!(e.contains("at least the 19 vertices"), "{e}");
+    load_text("", &["adaptivity.max_vertices=25"]).unwrap();
+}
+
+/// Regression (trial report B8): a garbage file named like an embedded scene hid it behind a
+/// bare read error; the error now says which was read and how to run the embedded one.
+#[test]
+fn a_file_named_like_an_embedded_scene_says_it_hides_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("sphere");
+    std::fs::write(&path, [0xff, 0xfe, 0x00]).unwrap();
+    let e = shadowing("sphere", load(&path, &[]).unwrap_err()).to_string();
+    assert!(e.contains("cannot read scene file"), "{e}");
+    assert!(e.contains("instead of the embedded scene `sphere`"), "{e}");
+    std::fs::write(&path, "[cloth\n").unwrap();
+    let e = shadowing("sphere", load(&path, &[]).unwrap_err()).to_string();
+    assert!(e.contains("instead of the embedded scene `sphere`"), "{e}");
+    let e = shadowing("mine", load(&path, &[]).unwrap_err()).to_string();
+    assert!(!e.contains("embedded scene"), "{e}");
+}
+
+/// Regression (trial report B6): `file = ""` said "( not found)".
+#[test]
+fn an_empty_obstacle_mesh_path_says_so() {
+    let text = "[[obstacles]]\nkind = \"mesh\"\nfile = \"\"\n";
+    let e = load_text(text, &[]).unwrap_err().to_string();
+    assert!(
+        e.contains(
+            "test.toml:3: obstacles.0.file = \"\": expected an existing OBJ file (empty path)"
+        ),
+        "{e}"
+    );
 }

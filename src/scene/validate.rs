@@ -1,7 +1,8 @@
 //! Range checks of a parsed scene, reported with the file, the line of the key and what was
 //! expected.
 
-use super::{AdaptivitySpec, ClothShape, CriteriaSpec, ObstacleShape, Scene, SceneError};
+use super::adaptivity::{sizing_options, strategy_options};
+use super::{ClothShape, ObstacleShape, Scene, SceneError};
 use crate::math::Real;
 use std::path::Path;
 
@@ -36,8 +37,8 @@ const MAX_CG_ITERATIONS: usize = 10_000;
 const MAX_RELAXATION_PASSES: usize = 1_000;
 
 /// Where `key`'s value came from and what it is: the setting that set it (its place names the key
-/// and the value: `--set key=value`); for a list element `key[i]` set as a whole, that setting then
-/// `key[i] = value`; else the file, the key's line and `key = value`.
+/// and the value: `--set key=value`); for a list element `key[i]` or a key `key.sub` set as a
+/// whole, that setting then `key[i] = value`; else the file, the key's line and `key = value`.
 pub(super) fn subject(
     text: &str,
     source: &str,
@@ -45,8 +46,12 @@ pub(super) fn subject(
     key: &str,
     value: &str,
 ) -> String {
-    let whole = key.split('[').next().unwrap_or(key);
-    match options.iter().rev().find(|(k, _)| k == key || k == whole) {
+    // Set whole: `key` is `k[i]` or `k.sub`.
+    let within = |k: &str| {
+        key.strip_prefix(k)
+            .is_some_and(|r| r.starts_with(['[', '.']))
+    };
+    match options.iter().rev().find(|(k, _)| k == key || within(k)) {
         Some((k, place)) if k == key => place.clone(),
         Some((_, place)) => format!("{place}: {key} = {value}"),
         None => {
@@ -181,7 +186,8 @@ pub(super) fn validate(
     c.finite3("cloth.center", cloth.center)?;
     c.finite3("cloth.rotation_deg", cloth.rotation_deg)?;
     c.finite3("cloth.velocity", cloth.velocity)?;
-    match cloth.shape {
+    // The vertex count the cloth starts with (an OBJ cloth's is checked when it is read).
+    let start = match cloth.shape {
         ClothShape::Grid => {
             if cloth.resolution < 2 {
                 return Err(c.fail(
@@ -212,7 +218,12 @@ pub(super) fn validate(
             } else {
                 cloth.resolution
             };
-            vertex_count(&c, (key, value), cloth.resolution.checked_mul(ny), &what)?;
+            Some(vertex_count(
+                &c,
+                (key, value),
+                cloth.resolution.checked_mul(ny),
+                &what,
+            )?)
         }
         ClothShape::Disk => {
             if cloth.resolution < 1 {
@@ -226,7 +237,7 @@ pub(super) fn validate(
                 .and_then(|n| n.checked_mul(3))
                 .and_then(|n| n.checked_add(1));
             let what = format!("a disk of {r} rings");
-            vertex_count(&c, ("cloth.resolution", r), count, &what)?;
+            Some(vertex_count(&c, ("cloth.resolution", r), count, &what)?)
         }
         ClothShape::Obj => {
             if cloth.mesh.is_empty() {
@@ -236,15 +247,16 @@ pub(super) fn validate(
                     "expected an OBJ file for shape = \"obj\"",
                 ));
             }
-            if let Some(why) = not_a_file(&base_dir.join(&cloth.mesh)) {
+            if let Some(why) = not_a_file(&super::mesh_path(base_dir, &cloth.mesh)) {
                 return Err(c.fail(
                     "cloth.mesh",
                     &cloth.mesh,
                     &format!("expected an existing OBJ file ({why})"),
                 ));
             }
+            None
         }
-    }
+    };
     for (i, p) in cloth.pinned.iter().enumerate() {
         if !p.iter().all(|x| x.is_finite()) {
             return Err(c.fail(
@@ -394,10 +406,15 @@ pub(super) fn validate(
             } => {
                 c.positive(&key("scale"), *scale)?;
                 c.finite3(&key("translation"), *translation)?;
-                if let Some(why) = not_a_file(&base_dir.join(file)) {
+                let why = match file.is_empty() {
+                    true => Some("empty path".to_string()),
+                    false => not_a_file(&super::mesh_path(base_dir, file)),
+                };
+                if let Some(why) = why {
+                    let shown = if file.is_empty() { "\"\"" } else { file };
                     return Err(c.fail(
                         &key("file"),
-                        file,
+                        shown,
                         &format!("expected an existing OBJ file ({why})"),
                     ));
                 }
@@ -478,6 +495,9 @@ pub(super) fn validate(
             ),
         ));
     }
+    if let Some(n) = start {
+        super::adaptivity::room_for_cloth(&c, a.max_vertices, n)?;
+    }
     if !(a.remesh_min_angle > 0.0 && a.remesh_min_angle <= 33.0) {
         return Err(c.fail(
             "adaptivity.remesh_min_angle",
@@ -498,10 +518,15 @@ pub(super) fn validate(
     Ok(())
 }
 
-/// Why `path` cannot be read as a file, `None` when it is a regular file: not found (or not
-/// readable), a folder, or a device, pipe or socket (reading one could block or never end).
+/// Why `path` cannot be read as a file, `None` when it is a regular file or a built-in one: not
+/// found (or not readable, or not built in), a folder, or a device, pipe or socket (reading one
+/// could block or never end).
 fn not_a_file(path: &Path) -> Option<String> {
     let shown = path.display();
+    if crate::io::is_embedded_path(path) {
+        let built_in = crate::io::embedded_text(path).is_some();
+        return (!built_in).then(|| format!("{shown} is not built into the binary"));
+    }
     match std::fs::metadata(path) {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => Some(format!("{shown} not found")),
         Err(e) => Some(format!("{shown}: {e}")),
@@ -513,18 +538,18 @@ fn not_a_file(path: &Path) -> Option<String> {
     }
 }
 
-/// Fails when a cloth of `count` vertices (`None`: past `usize`) is more than a run may allocate
-/// ([`crate::mesh::MAX_VERTICES`], about [`crate::mesh::BYTES_PER_VERTEX`] bytes each); `what`
-/// describes the cloth, `key` is the key to blame with its value.
+/// The cloth's vertex count `count`; fails when it is `None` (past `usize`) or more than a run may
+/// allocate ([`crate::mesh::MAX_VERTICES`], about [`crate::mesh::BYTES_PER_VERTEX`] bytes each);
+/// `what` describes the cloth, `key` is the key to blame with its value.
 fn vertex_count(
     c: &Checker,
     (key, value): (&str, usize),
     count: Option<usize>,
     what: &str,
-) -> Result<(), SceneError> {
+) -> Result<usize, SceneError> {
     use crate::mesh::{BYTES_PER_VERTEX, MAX_VERTICES};
-    if count.is_some_and(|n| n <= MAX_VERTICES) {
-        return Ok(());
+    if let Some(n) = count.filter(|&n| n <= MAX_VERTICES) {
+        return Ok(n);
     }
     let need = match count {
         Some(n) => format!(
@@ -541,111 +566,6 @@ fn vertex_count(
             MAX_VERTICES * BYTES_PER_VERTEX / 1_000_000_000
         ),
     ))
-}
-
-/// Fails when a strategy-specific `[adaptivity]` key holds a non-default value while the scene's
-/// strategy ignores it (the strategy registry says which strategies read which key). A strategy
-/// that never edits the mesh (`static`) ignores every key and is not checked: scenes keep the
-/// parameters of the strategies they are compared with. `density_refine` and `density_simplify`
-/// (remesh only) are not checked either: the source scenes tune them for remesh and are run with
-/// every strategy.
-fn strategy_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
-    let Ok(strategy) = crate::strategies::strategy_named(&a.strategy) else {
-        return Ok(());
-    };
-    if !strategy.edits_mesh {
-        return Ok(());
-    }
-    let d = AdaptivitySpec::default();
-    macro_rules! key {
-        ($field:ident) => {
-            (
-                stringify!($field),
-                a.$field.to_string(),
-                d.$field.to_string(),
-            )
-        };
-    }
-    let keys = [
-        key!(curvature_exponent),
-        key!(max_depth),
-        key!(depth_factor),
-        key!(force_completion),
-        key!(remesh_min_angle),
-    ];
-    for (key, value, default) in keys {
-        if value == default || strategy.options.contains(&key) {
-            continue;
-        }
-        let users: Vec<&str> = crate::strategies::STRATEGIES
-            .iter()
-            .filter(|s| s.options.contains(&key))
-            .map(|s| s.name)
-            .collect();
-        return Err(c.fail(
-            &format!("adaptivity.{key}"),
-            value,
-            &format!(
-                "strategy `{}` ignores this key; it applies to {} only (remove it or set it to \
-                 its default, {default})",
-                strategy.name,
-                users.join(", ")
-            ),
-        ));
-    }
-    Ok(())
-}
-
-/// Fails when the criteria are the sizing field's while the strategy never edits the mesh
-/// (`static` reads no criteria).
-pub(super) fn criteria_need_adaptivity(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
-    let adapts = crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh);
-    if a.criteria != CriteriaSpec::Sizing || adapts {
-        return Ok(());
-    }
-    let adaptive: Vec<&str> = crate::strategies::STRATEGIES
-        .iter()
-        .filter(|s| s.edits_mesh)
-        .map(|s| s.name)
-        .collect();
-    Err(c.fail(
-        "adaptivity.criteria",
-        "\"sizing\"",
-        &format!(
-            "strategy `{}` never adapts the mesh and reads no criteria; the sizing field needs \
-             an adaptive strategy ({})",
-            a.strategy,
-            adaptive.join(", ")
-        ),
-    ))
-}
-
-/// Fails when a sizing-field key (`size_*`) holds a non-default value while the scene's criteria
-/// are the source's, which never read it.
-fn sizing_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
-    if a.criteria == CriteriaSpec::Sizing {
-        return Ok(());
-    }
-    let d = AdaptivitySpec::default();
-    let keys = [
-        ("size_angle", a.size_angle, d.size_angle),
-        ("size_velocity", a.size_velocity, d.size_velocity),
-        ("size_compression", a.size_compression, d.size_compression),
-        ("size_proximity", a.size_proximity, d.size_proximity),
-    ];
-    for (key, value, default) in keys {
-        if value != default {
-            return Err(c.fail(
-                &format!("adaptivity.{key}"),
-                value,
-                &format!(
-                    "a sizing-field key, read only with adaptivity.criteria = \"sizing\" \
-                     (remove it or set it to its default, {default})"
-                ),
-            ));
-        }
-    }
-    Ok(())
 }
 
 /// The 1-based line of `key` in the scene text: `section.key` under `[section]`, `obstacles.N.key`

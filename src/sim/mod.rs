@@ -174,7 +174,8 @@ impl Simulation {
     pub fn new(loaded: &LoadedScene) -> Result<Simulation, SetupError> {
         let scene = loaded.scene.clone();
         let cloth = build_cloth(loaded)?;
-        let obstacles = Obstacles::build(&loaded.obstacles(), &(&scene.collision).into())?;
+        let obstacles = Obstacles::build(&loaded.obstacles(), &(&scene.collision).into())
+            .map_err(|e| setup::obstacle_error(loaded, e))?;
         let integrator = make_integrator(&scene.integrator.name, &(&scene.integrator).into())?;
         let drivers = setup::drivers(loaded, &cloth)?;
         let strategy = make_strategy(&scene.adaptivity.strategy)?;

@@ -264,7 +264,10 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
             message = format!("interrupted at step {}, t = {:.6} s", sim.steps, sim.t);
             break;
         }
-        match sim.step() {
+        let stepped = sim.step();
+        // A failed adaptation pass leaves its mesh (past `max_vertices`): counted too.
+        max_vertices = max_vertices.max(sim.cloth.mesh.vertex_count());
+        match stepped {
             Ok(report) => {
                 if let Some(s) = sampler.as_mut() {
                     s.observe_adaptation(&report.adapt);
@@ -289,7 +292,6 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
                 break;
             }
         }
-        max_vertices = max_vertices.max(sim.cloth.mesh.vertex_count());
         if sim.steps % 64 == 0 {
             bar.set_position((sim.t * 1e3) as u64);
             bar.set_message(format!(

@@ -1,9 +1,11 @@
 //! Building the cloth from the scene's `[cloth]` section: pattern, placement, pinned vertices.
 
 use crate::cloth::Cloth;
+use crate::collision::CollisionError;
+use crate::io::ObjError;
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{self, Mesh, VertexId};
-use crate::scene::{ClothShape, LoadedScene};
+use crate::scene::{ClothShape, LoadedScene, ObstacleShape, SceneError};
 use nalgebra::{Rotation3, Vector3};
 
 /// Why a scene's cloth could not be built.
@@ -14,7 +16,7 @@ pub enum SetupError {
     Obj(#[from] mesh::ObjError),
     /// The obstacles could not be built.
     #[error("obstacles: {0}")]
-    Collision(#[from] crate::collision::CollisionError),
+    Collision(#[from] CollisionError),
     /// A pinned or tracked rest point is not on the pattern.
     #[error("{subject}: expected a rest point on the cloth pattern (m)")]
     OffPattern {
@@ -22,6 +24,11 @@ pub enum SetupError {
         /// `FILE:LINE: cloth.pinned[0] = [u, v]`, or the setting that set it.
         subject: String,
     },
+    /// A scene value the built cloth or obstacles contradict (`adaptivity.max_vertices` below an
+    /// OBJ cloth's vertex count, an obstacle mesh file that does not read); the message names
+    /// where it was given.
+    #[error(transparent)]
+    Scene(#[from] crate::scene::SceneError),
     /// The strategy is unknown.
     #[error("{0}")]
     Strategy(#[from] crate::strategies::StrategyError),
@@ -56,7 +63,8 @@ pub fn build_cloth(loaded: &LoadedScene) -> Result<Cloth, SetupError> {
             (mesh, positions)
         }
         ClothShape::Obj => {
-            let obj = mesh::load_obj(&loaded.base_dir.join(&spec.mesh))?;
+            let obj = mesh::load_obj(&crate::scene::mesh_path(&loaded.base_dir, &spec.mesh))?;
+            loaded.check_start_vertices(obj.mesh.vertex_count())?;
             (obj.mesh, obj.positions)
         }
     };
@@ -80,6 +88,26 @@ pub(crate) fn off_pattern(loaded: &LoadedScene, key: &str, p: [Real; 2]) -> Setu
     SetupError::OffPattern {
         subject: loaded.subject(key, &format!("[{}, {}]", p[0], p[1])),
     }
+}
+
+/// `e`, an obstacle that could not be built; an unreadable mesh file named by its key and line
+/// (`FILE:LINE: obstacles.N.file = F: line 3: ...`, or the setting that set it).
+pub(crate) fn obstacle_error(loaded: &LoadedScene, e: CollisionError) -> SetupError {
+    let CollisionError::MeshFile { index, source } = e else {
+        return e.into();
+    };
+    let file = match &loaded.scene.obstacles.get(index).map(|o| &o.shape) {
+        Some(ObstacleShape::Mesh { file, .. }) => file.clone(),
+        _ => return CollisionError::MeshFile { index, source }.into(),
+    };
+    let why = match source {
+        ObjError::Io { source, .. } => format!("cannot read the OBJ file: {source}"),
+        ObjError::Parse { line, message, .. } => format!("line {line}: {message}"),
+    };
+    SetupError::Scene(SceneError::Invalid {
+        subject: loaded.subject(&format!("obstacles.{index}.file"), &file),
+        expected: why,
+    })
 }
 
 /// World positions of a flat pattern of the given rest size (m) centred at `center` (m).

@@ -18,3 +18,4 @@ mod self_collision;
 mod study;
 mod threads;
 mod transfer;
+mod trial_inputs;

@@ -98,7 +98,8 @@ const GROUND_REACH_FACTOR: f32 = 1.5;
 /// - box: 12 triangles, each split 1-to-4 three times;
 /// - ground: a horizontal square at `height`, centred on the origin (where scenes put the cloth),
 ///   of half side `max(1.5 m, 1.5 x the largest |x| or |y| reached by the other obstacles)`;
-/// - mesh: the OBJ file (relative to `base_dir`, the scene file's folder), scaled then translated.
+/// - mesh: the OBJ file (relative to `base_dir`, the scene file's folder:
+///   [`crate::scene::mesh_path`]), scaled then translated.
 ///
 /// Errors: a non-positive or non-finite size or an unusable motion ([`RenderError::Obstacle`]);
 /// a mesh file that cannot be read or parsed ([`RenderError::Io`], [`RenderError::Obj`]).
@@ -164,7 +165,7 @@ pub fn obstacle_meshes(
                 scale,
                 translation,
             } => {
-                let mut m = FrameMesh::read(&base_dir.join(file))?;
+                let mut m = FrameMesh::read(&crate::scene::mesh_path(base_dir, file))?;
                 let (s, t) = (*scale as f32, to_f32(translation));
                 for p in &mut m.positions {
                     *p = [p[0] * s + t[0], p[1] * s + t[1], p[2] * s + t[2]];
