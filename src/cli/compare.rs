@@ -83,6 +83,9 @@ pub fn reference(args: ReferenceArgs) -> Result<(), CliError> {
         Some(progress.multi()),
         Some(interrupt_flag()),
     )?;
+    if let Some(note) = r.discarded_note() {
+        eprintln!("{note}");
+    }
     println!("{}", reference::describe(&r));
     eprintln!("done in {:.1} s", clock.elapsed().as_secs_f64());
     Ok(())
@@ -235,6 +238,9 @@ fn ensure_references(
             )?;
             // Said when computed; each scene's comparison names it again, read from the cache.
             if !r.cached {
+                if let Some(note) = r.discarded_note() {
+                    progress.println(&note);
+                }
                 progress.println(&reference::describe(&r));
             }
             Ok::<_, reference::ReferenceError>(r)
