@@ -106,11 +106,17 @@ fn scene_names(args: &CompareArgs) -> Vec<String> {
 /// `adaptcloth compare`: the study the options describe, run like a study file.
 pub fn compare(args: CompareArgs) -> Result<(), CliError> {
     let spec = args.runs.clone().unwrap_or_else(study::default_spec);
+    let scenes = scene_names(&args);
     let definition = Study {
         name: "compare".into(),
         description: String::new(),
         source: "command line".into(),
-        scenes: scene_names(&args),
+        scenes_from: scenes
+            .iter()
+            .enumerate()
+            .map(|(i, s)| format!("scene {} = {s:?}", i + 1))
+            .collect(),
+        scenes,
         set: Setting::options(&args.set),
         duration: args.duration,
         reference: reference_settings(&args.reference)?,
