@@ -327,7 +327,7 @@ pub fn from_text(
     )
 }
 
-/// Parses scene text, applies the overrides, and validates.
+/// Parses scene text, validates it as written, applies the overrides, and validates the result.
 fn from_text_with(
     text: &str,
     source: &str,
@@ -352,6 +352,11 @@ fn from_text_with(
                 message: plain_types(e.to_string().trim_end()),
             })
     })?;
+    // The file as written is valid on its own: a value an override replaces is checked too (a
+    // `time.duration = nan` under `--duration 1` was never looked at), and named by its line.
+    if *overrides != Overrides::default() {
+        validate::validate(&scene, text, source, &base_dir, &[])?;
+    }
     let mut scene = apply_settings(scene, &overrides.set, &checker)?;
     overrides.apply_typed(&mut scene);
     // The name names output folders: it must stay one safe file-name component.
