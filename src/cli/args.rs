@@ -261,7 +261,7 @@ pub struct MergeArgs {
     /// Folders written by `compare --shard i/n` (same scene, reference and configurations).
     #[arg(required = true)]
     pub dirs: Vec<PathBuf>,
-    /// Output folder of the merged comparison.
+    /// Output folder of the merged comparison: not one of the input folders, nor inside one.
     #[arg(long)]
     pub out: PathBuf,
 }

@@ -83,6 +83,9 @@ pub fn reference(args: ReferenceArgs) -> Result<(), CliError> {
         Some(progress.multi()),
         Some(interrupt_flag()),
     )?;
+    if let Some(note) = r.discarded_note() {
+        eprintln!("{note}");
+    }
     println!("{}", reference::describe(&r));
     eprintln!("done in {:.1} s", clock.elapsed().as_secs_f64());
     Ok(())
@@ -103,11 +106,17 @@ fn scene_names(args: &CompareArgs) -> Vec<String> {
 /// `adaptcloth compare`: the study the options describe, run like a study file.
 pub fn compare(args: CompareArgs) -> Result<(), CliError> {
     let spec = args.runs.clone().unwrap_or_else(study::default_spec);
+    let scenes = scene_names(&args);
     let definition = Study {
         name: "compare".into(),
         description: String::new(),
         source: "command line".into(),
-        scenes: scene_names(&args),
+        scenes_from: scenes
+            .iter()
+            .enumerate()
+            .map(|(i, s)| format!("scene {} = {s:?}", i + 1))
+            .collect(),
+        scenes,
         set: Setting::options(&args.set),
         duration: args.duration,
         reference: reference_settings(&args.reference)?,
@@ -235,6 +244,9 @@ fn ensure_references(
             )?;
             // Said when computed; each scene's comparison names it again, read from the cache.
             if !r.cached {
+                if let Some(note) = r.discarded_note() {
+                    progress.println(&note);
+                }
                 progress.println(&reference::describe(&r));
             }
             Ok::<_, reference::ReferenceError>(r)

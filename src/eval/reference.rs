@@ -6,6 +6,8 @@
 //! little-endian `u32` header length, a JSON header, then the sampled positions as f32
 //! little-endian, frame-major, then the final vertex positions as f32), plus the reference's and
 //! the floor run's own outputs (`reference/`, `floor/`: frames, metrics.csv, summary.json).
+//! An entry whose sizes disagree with its header or that holds a value not finite is malformed
+//! ([`read_bin`]) and recomputed ([`Reference::discarded`]).
 //!
 //! The key is a 64-bit FNV-1a hash (stable across Rust releases, unlike `DefaultHasher`) of the
 //! reference scene serialized to JSON with everything that is not physics normalised away (name,
@@ -127,6 +129,18 @@ pub struct Reference {
     pub dir: PathBuf,
     /// True when it was read from the cache rather than computed now.
     pub cached: bool,
+    /// Why the `reference.bin` found in the cache entry was not used (malformed, or written for
+    /// another key), when this reference was computed in its place; callers say so on stderr.
+    pub discarded: Option<String>,
+}
+
+impl Reference {
+    /// The stderr line saying a cache entry was unusable and recomputed, if it was.
+    pub fn discarded_note(&self) -> Option<String> {
+        self.discarded
+            .as_ref()
+            .map(|why| format!("warning: {why}; the reference was recomputed"))
+    }
 }
 
 /// Said after a reference or floor run diverged: the keys a study sets for every run reach the
@@ -411,16 +425,27 @@ pub fn ensure_reference(
     let key = cache_key(base, settings);
     let dir = entry_dir(cache, base, settings);
     let bin = dir.join("reference.bin");
+    let mut discarded = None;
     if !force && bin.is_file() {
-        if let Ok((header, trajectory)) = read_bin(&bin) {
-            if header.key == key && header.format == CACHE_FORMAT {
+        match read_bin(&bin) {
+            Ok((header, trajectory)) if header.key == key && header.format == CACHE_FORMAT => {
                 return Ok(Reference {
                     header,
                     trajectory,
                     dir,
                     cached: true,
+                    discarded: None,
                 });
             }
+            Ok((header, _)) => {
+                discarded = Some(format!(
+                    "{}: written for key {} (format {}), not {key} (format {CACHE_FORMAT})",
+                    bin.display(),
+                    header.key,
+                    header.format
+                ));
+            }
+            Err(e) => discarded = Some(e.to_string()),
         }
     }
     let reference_scene = static_variant(base, settings.resolution, settings);
@@ -510,6 +535,7 @@ pub fn ensure_reference(
         trajectory,
         dir,
         cached: false,
+        discarded,
     })
 }
 
@@ -536,7 +562,8 @@ pub fn write_bin(
     crate::io::write_atomic(path, &bytes).map_err(io_err(path))
 }
 
-/// Reads `reference.bin`.
+/// Reads `reference.bin`: [`ReferenceError::Malformed`] when its header's counts disagree with
+/// each other or with the data's size, or a position, rest point or time is not finite.
 pub fn read_bin(path: &Path) -> Result<(ReferenceHeader, Trajectory), ReferenceError> {
     let malformed = |why: &str| ReferenceError::Malformed {
         path: path.display().to_string(),
@@ -554,6 +581,7 @@ pub fn read_bin(path: &Path) -> Result<(ReferenceHeader, Trajectory), ReferenceE
         .ok_or_else(|| malformed("short header"))?;
     let header: ReferenceHeader =
         serde_json::from_slice(json).map_err(|e| malformed(&e.to_string()))?;
+    check_header(&header).map_err(|why| malformed(&why))?;
     let points = header.samples.len();
     let frames = header.times.len();
     let body = &bytes[12 + n..];
@@ -568,6 +596,12 @@ pub fn read_bin(path: &Path) -> Result<(ReferenceHeader, Trajectory), ReferenceE
             floats.len()
         )));
     }
+    if let Some(k) = floats.iter().position(|x| !x.is_finite()) {
+        return Err(malformed(&format!(
+            "position value {k} is {}, expected a finite number",
+            floats[k]
+        )));
+    }
     let triples: Vec<[f32; 3]> = floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let (positions, final_vertices) = triples.split_at(frames * points);
     let trajectory = Trajectory {
@@ -580,6 +614,42 @@ pub fn read_bin(path: &Path) -> Result<(ReferenceHeader, Trajectory), ReferenceE
         adapt: Default::default(),
     };
     Ok((header, trajectory))
+}
+
+/// Checks that the counts of a `reference.bin` header agree with each other (the sample grid
+/// with `settings.samples`) and that its times and rest points are finite; the reason otherwise.
+fn check_header(h: &ReferenceHeader) -> Result<(), String> {
+    let s = &h.samples;
+    let n = h.settings.samples;
+    if s.grid > s.rest.len() {
+        return Err(format!(
+            "{} grid samples of {} rest points",
+            s.grid,
+            s.rest.len()
+        ));
+    }
+    if n.checked_mul(n).is_none_or(|nn| s.grid > nn) {
+        return Err(format!(
+            "{} grid samples, more than settings.samples = {n} squared",
+            s.grid
+        ));
+    }
+    if s.side != 0 && (s.side != n || s.side * s.side != s.grid) {
+        return Err(format!(
+            "a {0} x {0} sample grid of {1} points, with settings.samples = {n}",
+            s.side, s.grid
+        ));
+    }
+    if !s
+        .rest
+        .iter()
+        .flatten()
+        .chain(&h.times)
+        .all(|x| x.is_finite())
+    {
+        return Err("a rest point or frame time is not finite".into());
+    }
+    Ok(())
 }
 
 /// A human-readable summary of a reference and its floor.

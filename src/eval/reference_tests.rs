@@ -163,6 +163,100 @@ fn bin_round_trip() {
     ));
 }
 
+/// A valid `reference.bin` over a complete 2 x 2 sample grid at `path`, and its header.
+fn write_small_entry(path: &Path) -> ReferenceHeader {
+    let samples = SamplePoints {
+        rest: vec![[0.0, 0.0], [1.0, 0.0], [0.0, 1.0], [1.0, 1.0]],
+        grid: 4,
+        side: 2,
+    };
+    let t = Trajectory {
+        points: 4,
+        grid: 4,
+        side: 2,
+        times: vec![0.0, 0.5],
+        positions: (0..8).map(|i| [i as f32, 0.5, -0.25 * i as f32]).collect(),
+        final_vertices: vec![[1.0, 2.0, 3.0]],
+        adapt: Default::default(),
+    };
+    let header = ReferenceHeader {
+        format: CACHE_FORMAT,
+        key: "0123456789abcdef".into(),
+        scene: "s".into(),
+        settings: ReferenceSettings {
+            samples: 2,
+            ..ReferenceSettings::default()
+        },
+        integrator: "rk4".into(),
+        beta: 0.01,
+        samples,
+        times: t.times.clone(),
+        final_vertices: 1,
+        steps: 10,
+        wall_s: 1.0,
+        sim_time: 0.5,
+        floor: Floor {
+            resolution: 3,
+            e_rms: 0.1,
+            e_final: 0.2,
+            tracked_err: 0.3,
+            hausdorff: 0.4,
+            wall_s: 0.5,
+            steps: 6,
+        },
+        physics: serde_json::json!({"a": 1}),
+    };
+    write_bin(path, &header, &t).unwrap();
+    assert!(read_bin(path).is_ok());
+    header
+}
+
+/// Regression (trial report A6): a cache entry with NaN or infinite positions, or a header whose
+/// counts disagree with the data, was loaded as "(cached)" and its NaN turned into plausible
+/// errors. Each is refused as malformed (and so recomputed).
+#[test]
+fn a_corrupted_reference_cache_entry_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("reference.bin");
+    let refused = |path: &Path, what: &str| match read_bin(path) {
+        Err(ReferenceError::Malformed { why, .. }) => why,
+        other => panic!("{what}: expected Malformed, got {other:?}"),
+    };
+    // A non-finite value in the data, the header intact.
+    for bad in [f32::NAN, f32::INFINITY] {
+        write_small_entry(&path);
+        let mut bytes = std::fs::read(&path).unwrap();
+        let at = bytes.len() - 8; // the last vertex's y
+        bytes[at..at + 4].copy_from_slice(&bad.to_le_bytes());
+        std::fs::write(&path, &bytes).unwrap();
+        let why = refused(&path, &format!("{bad}"));
+        assert!(why.contains("expected a finite number"), "{why}");
+    }
+    // Header counts off by one, the data intact.
+    let rewrite = |edit: &dyn Fn(&mut ReferenceHeader)| {
+        let mut header = write_small_entry(&path);
+        let (_, t) = read_bin(&path).unwrap();
+        edit(&mut header);
+        // Written byte for byte as `write_bin` would, whatever the header says.
+        let json = serde_json::to_vec(&header).unwrap();
+        let mut bytes = MAGIC.to_vec();
+        bytes.extend_from_slice(&(json.len() as u32).to_le_bytes());
+        bytes.extend_from_slice(&json);
+        for c in t.positions.iter().chain(&t.final_vertices).flatten() {
+            bytes.extend_from_slice(&c.to_le_bytes());
+        }
+        std::fs::write(&path, bytes).unwrap();
+    };
+    rewrite(&|h| h.settings.samples += 1);
+    assert!(refused(&path, "samples + 1").contains("settings.samples = 3"));
+    rewrite(&|h| h.final_vertices += 1);
+    assert!(refused(&path, "final_vertices + 1").contains("floats, expected"));
+    rewrite(&|h| h.samples.grid += 1);
+    refused(&path, "grid + 1");
+    rewrite(&|h| h.times[1] = f64::NAN);
+    refused(&path, "a NaN time");
+}
+
 /// The keys of the shipped scenes without moving obstacles, as computed before obstacles could
 /// move (`[obstacles.motion]`) and after face contact became the default (the mode is part of
 /// the key): a scene that does not use a later key keeps its cached references. The sphere's

@@ -359,7 +359,7 @@ pub fn from_text(
     )
 }
 
-/// Parses scene text, applies the overrides, and validates.
+/// Parses scene text, validates it as written, applies the overrides, and validates the result.
 fn from_text_with(
     text: &str,
     source: &str,
@@ -386,6 +386,11 @@ fn from_text_with(
     })?;
     if let Ok(given) = toml::from_str::<toml::Table>(text) {
         sections::check(&given, &scene, &checker)?;
+    }
+    // The file as written is valid on its own: a value an override replaces is checked too (a
+    // `time.duration = nan` under `--duration 1` was never looked at), and named by its line.
+    if *overrides != Overrides::default() {
+        validate::validate(&scene, text, source, &base_dir, &[])?;
     }
     let mut scene = apply_settings(scene, &overrides.set, &checker)?;
     overrides.apply_typed(&mut scene);

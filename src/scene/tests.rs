@@ -616,3 +616,19 @@ fn an_empty_obstacle_mesh_path_says_so() {
         "{e}"
     );
 }
+
+/// Regression (trial report B1): a value the overrides replace was never checked, so a file with
+/// `duration = nan` ran under `--duration`. The file is validated as written, named by its line.
+#[test]
+fn the_file_is_valid_as_written_under_overrides() {
+    for o in ["time.duration=0.5", "time.dt=0.001"] {
+        let e = load_text("[time]\nduration = nan\n", &[o])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(":2: time.duration = NaN: expected a finite value > 0"),
+            "{o}: {e}"
+        );
+    }
+    assert!(load_text("[time]\nduration = 0.1\n", &["time.duration=0.5"]).is_ok());
+}

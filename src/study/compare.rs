@@ -63,6 +63,9 @@ pub fn compare(base: &LoadedScene, opts: &CompareOptions) -> Result<Comparison, 
         Some(progress.multi()),
         opts.interrupt.clone(),
     )?;
+    if let Some(note) = reference.discarded_note() {
+        progress.println(&note);
+    }
     progress.println(&reference::describe(&reference));
     let samples = Arc::new(reference.header.samples.clone());
     let rows = pool::run_all(

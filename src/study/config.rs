@@ -136,10 +136,17 @@ pub fn configs_for(
     let mut out: Vec<RunConfig> = Vec::new();
     for t in runs {
         let c = t.config(scene);
-        if out.iter().any(|o| o.label() == c.label()) {
+        if let Some(first) = out.iter().find(|o| o.label() == c.label()) {
             return Err(StudyError::Config(format!(
-                "configuration {} listed twice",
-                c.label()
+                "{}: configuration {} listed twice (also by {}){}",
+                c.from,
+                c.label(),
+                first.from,
+                if c.from.starts_with("--runs") {
+                    ": list it once"
+                } else {
+                    ": give one of the two entries a `label` (the label's first part)"
+                }
             )));
         }
         c.scene(scene)?;

@@ -201,3 +201,105 @@ fn a_bad_scene_key_or_value_in_a_study_names_the_study_file_and_its_line() {
         "{e}"
     );
 }
+
+/// Regression (trial report B1): a `[[runs]]` entry setting one scene key twice kept one and
+/// ignored the other unchecked (`dt = 0.002` with `set = { "time.dt" = -1 }` ran). Refused,
+/// naming both keys and their lines; the grid and integrator come only from the entry's keys.
+#[test]
+fn a_run_entry_that_sets_one_scene_key_twice_is_refused() {
+    let head = "scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\n";
+    let cases = [
+        ("dt = 0.002\nset = { \"time.dt\" = -1 }\n", "s.toml:5: runs[0]: `set.\"time.dt\"` sets time.dt, which `dt` (s.toml:4) sets already"),
+        ("beta = 0.01\nset = { \"time.mode\" = \"fixed\" }\n", "s.toml:5: runs[0]: `set.\"time.mode\"` sets time.mode, which `beta` (s.toml:4) sets already"),
+        ("set = { \"adaptivity.strategy\" = \"remesh\" }\n", "s.toml:4: runs[0]: `set.\"adaptivity.strategy\"` sets adaptivity.strategy, which `strategy` (s.toml:3) sets already"),
+        ("integrator = \"rk4\"\nset = { \"integrator.name\" = \"implicit_euler\" }\n", "s.toml:5: runs[0]: `set.\"integrator.name\"` sets integrator.name, which `integrator` (s.toml:4) sets already"),
+        ("resolution = 5\nsweep = { \"cloth.resolution\" = [5, 9] }\n", "s.toml:5: runs[0]: `sweep.\"cloth.resolution\"` sets cloth.resolution, which `resolution` (s.toml:4) sets already"),
+        ("sweep = { \"cloth.resolution\" = [5, 9], \"resolution\" = [5] }\n", "s.toml:4: runs[0]: `sweep.\"resolution\"` sets cloth.resolution, which `sweep.\"cloth.resolution\"` (s.toml:4) sets already"),
+        ("set = { \"adaptivity.h_min\" = 0.1 }\nsweep = { \"adaptivity.h_min\" = [0.2] }\n", "s.toml:5: runs[0]: `sweep.\"adaptivity.h_min\"` sets adaptivity.h_min, which `set.\"adaptivity.h_min\"` (s.toml:4) sets already"),
+        ("set = { \"integrator.name\" = \"implicit_euler\" }\n", "s.toml:4: runs[0].set.\"integrator.name\": a run's integrator is given by its key `integrator`"),
+        ("set = { \"cloth.resolution\" = 9 }\n", "s.toml:4: runs[0].set.\"cloth.resolution\": a run's resolution is given by its key `resolution`"),
+    ];
+    for (run, expected) in cases {
+        let m = message(&format!("{head}{run}"));
+        assert!(m.starts_with(expected), "{run}: {m}");
+    }
+    // Each key once is fine; a grid sweep without `resolution` sets the grid.
+    parse(&format!(
+        "{head}dt = 0.002\nset = {{ \"time.frame_rate\" = 30 }}\nsweep = {{ \"resolution\" = [5, 9] }}\n"
+    ))
+    .unwrap();
+}
+
+/// Regression (trial report B2): two runs of one label were reported as `(static implicit_euler)`
+/// without a line, with advice (`give one a label`) that cannot separate the runs of one entry.
+/// The message names the real label, the entry's line and the cause.
+#[test]
+fn a_repeated_label_names_the_label_the_entry_and_the_cause() {
+    let head = "scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\n";
+    let cases = [
+        ("integrator = \"implicit_euler\"\nsweep = { \"cloth.resolution\" = [5, 5] }\n", "s.toml:5: runs[0].sweep.\"cloth.resolution\" lists 5 twice, so two runs would have the same label static-5-implicit_euler: each value makes one run; remove the repeated value"),
+        ("sweep = { \"adaptivity.h_min\" = [0.1, 0.3, 0.10] }\n", "s.toml:4: runs[0].sweep.\"adaptivity.h_min\" lists 0.1 twice, so two runs would have the same label static-<scene's grid>-<scene's integrator>-h_min=0.1"),
+        ("resolution = 5\n[[runs]]\nstrategy = \"static\"\nsweep = { \"cloth.resolution\" = [9, 5] }\n", "s.toml:6: runs[1]: two runs would have the same label static-5-<scene's integrator> (s.toml:3: runs[0] makes it too): give one of the two entries a `label`"),
+    ];
+    for (run, expected) in cases {
+        let m = message(&format!("{head}{run}"));
+        assert!(m.starts_with(expected), "{run}: {m}");
+    }
+    // One entry on the scene's grid, another naming that grid: found once the scene is known.
+    let s = parse(&format!(
+        "{head}[[runs]]\nstrategy = \"static\"\nresolution = 5\n"
+    ))
+    .unwrap();
+    let e = crate::study::plan(&s, |n| Path::new("out").join(n), false)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("s.toml:5: runs[1]: configuration static-5-rk4 listed twice (also by s.toml:3: runs[0]): give one of the two entries a `label`"),
+        "{e}"
+    );
+}
+
+/// Regression (trial report A2): two scenes of one study named alike wrote the same folder, the
+/// second overwriting the first's results, exit 0. Refused before anything runs, naming both
+/// scenes, where they were given and the folder.
+#[test]
+fn two_scenes_sharing_an_output_folder_are_refused() {
+    let d = tempfile::tempdir().unwrap();
+    std::fs::write(
+        d.path().join("small.toml"),
+        "name = \"sphere\"\n[cloth]\nresolution = 5\n",
+    )
+    .unwrap();
+    let runs = "[[runs]]\nstrategy = \"static\"\n";
+    for (scenes, second) in [
+        (
+            "[\"sphere\", \"sphere\"]",
+            "scenes[1] = \"sphere\" (<embedded sphere>, named `sphere`)",
+        ),
+        (
+            "[\"sphere\",\n  \"small.toml\"]",
+            "s.toml:2: scenes[1] = \"small.toml\"",
+        ),
+    ] {
+        let text = format!("scenes = {scenes}\n{runs}");
+        let s = parse_study(&text, "s.toml", "s", d.path()).unwrap();
+        let e = crate::study::plan(&s, |n| d.path().join("o").join(n), false)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with(
+                "s.toml:1: scenes[0] = \"sphere\" (<embedded sphere>, named `sphere`) and "
+            ),
+            "{e}"
+        );
+        assert!(e.contains(second), "{e}");
+        assert!(
+            e.contains(&format!(
+                "the same folder {}",
+                d.path().join("o/sphere").display()
+            )),
+            "{e}"
+        );
+        assert!(!d.path().join("o").exists());
+    }
+}

@@ -2,17 +2,19 @@
 
 use super::table::{read_comparison, Comparison, Row, Skipped};
 use super::{io_err, StudyError};
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 /// Combines shard folders into one comparison written to `out`: same scene, same reference and
 /// same configuration list required; each configuration must come from exactly one shard (a
 /// missing one is listed in the manifest's `skipped` as missing, a duplicate is an error). Run
-/// folders are copied into `out/runs/`.
+/// folders are copied into `out/runs/`. Every input is checked before anything is written: a
+/// merge that fails writes nothing, and `out` may not be, or lie inside, an input folder.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Comparison, StudyError> {
     let parts: Vec<(PathBuf, Comparison)> = dirs
         .iter()
         .map(|d| read_comparison(d).map(|c| (d.clone(), c)))
         .collect::<Result<_, _>>()?;
+    check_out_outside_inputs(dirs, out)?;
     let Some((_, first)) = parts.first() else {
         return Err(StudyError::Merge("no folder given".into()));
     };
@@ -30,8 +32,8 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Comparison, StudyError> {
             )));
         }
     }
-    let mut rows: Vec<Option<Row>> = vec![None; manifest.configs.len()];
-    std::fs::create_dir_all(out.join("runs")).map_err(io_err(out))?;
+    // Each configuration's row and the shard it comes from, all checked before any copy.
+    let mut rows: Vec<Option<(&Path, &Row)>> = vec![None; manifest.configs.len()];
     for (d, c) in &parts {
         for r in &c.rows {
             let k = manifest
@@ -41,18 +43,22 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Comparison, StudyError> {
                 .ok_or_else(|| {
                     StudyError::Merge(format!("{}: unknown run {}", d.display(), r.label))
                 })?;
-            if rows[k].is_some() {
+            if let Some((other, _)) = rows[k] {
                 return Err(StudyError::Merge(format!(
-                    "run {} appears in more than one shard",
-                    r.label
+                    "run {} appears in more than one shard ({} and {})",
+                    r.label,
+                    other.display(),
+                    d.display()
                 )));
             }
-            rows[k] = Some(r.clone());
-            let from = d.join("runs").join(&r.label);
-            let to = out.join("runs").join(&r.label);
-            if from.is_dir() && !same_dir(&from, &to) {
-                copy_dir(&from, &to)?;
-            }
+            rows[k] = Some((d, r));
+        }
+    }
+    std::fs::create_dir_all(out.join("runs")).map_err(io_err(out))?;
+    for (d, r) in rows.iter().flatten() {
+        let from = d.join("runs").join(&r.label);
+        if from.is_dir() {
+            copy_dir(&from, &out.join("runs").join(&r.label))?;
         }
     }
     manifest.shard = None;
@@ -64,17 +70,50 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Comparison, StudyError> {
             });
         }
     }
-    Ok(Comparison {
-        manifest,
-        rows: rows.into_iter().flatten().collect(),
-    })
+    let rows = rows.into_iter().flatten().map(|(_, r)| r.clone()).collect();
+    Ok(Comparison { manifest, rows })
 }
 
-fn same_dir(a: &Path, b: &Path) -> bool {
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => false,
+/// Refuses an `out` that is one of `dirs` or inside one (it would rewrite that shard), the
+/// paths compared canonicalised; `out` may not exist yet.
+fn check_out_outside_inputs(dirs: &[PathBuf], out: &Path) -> Result<(), StudyError> {
+    let target = canonical_to_be(out).map_err(io_err(out))?;
+    for d in dirs {
+        let input = d.canonicalize().map_err(io_err(d))?;
+        if target.starts_with(&input) {
+            let place = if target == input { "is" } else { "is inside" };
+            return Err(StudyError::Merge(format!(
+                "--out {} {place} the input folder {}: merging would rewrite that shard; give \
+                 --out a new folder",
+                out.display(),
+                d.display()
+            )));
+        }
     }
+    Ok(())
+}
+
+/// `path` canonicalised when it exists; else its longest existing prefix canonicalised with the
+/// rest of `path` appended (`..` and `.` resolved by name: there is no link to follow there).
+fn canonical_to_be(path: &Path) -> std::io::Result<PathBuf> {
+    let absolute = std::path::absolute(path)?;
+    let parts: Vec<Component> = absolute.components().collect();
+    let prefix = |k: usize| parts[..k].iter().collect::<PathBuf>();
+    let mut k = parts.len();
+    while k > 1 && !prefix(k).exists() {
+        k -= 1;
+    }
+    let mut out = prefix(k).canonicalize()?;
+    for c in &parts[k..] {
+        match c {
+            Component::ParentDir => {
+                out.pop();
+            }
+            Component::Normal(name) => out.push(name),
+            _ => {}
+        }
+    }
+    Ok(out)
 }
 
 fn copy_dir(from: &Path, to: &Path) -> Result<(), StudyError> {
@@ -90,4 +129,101 @@ fn copy_dir(from: &Path, to: &Path) -> Result<(), StudyError> {
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::study::table::tests::{manifest, row};
+    use crate::study::table::write_tables;
+
+    /// A shard folder `dir` of the sweep `a, b, c` holding the runs `labels`, each with a
+    /// `runs/LABEL/summary.json`.
+    fn shard(dir: &Path, labels: &[&str]) {
+        let mut m = manifest();
+        m.configs = ["a", "b", "c"].map(String::from).to_vec();
+        let rows = labels.iter().map(|l| row(l)).collect();
+        std::fs::create_dir_all(dir).unwrap();
+        write_tables(dir, &Comparison { manifest: m, rows }).unwrap();
+        for l in labels {
+            let run = dir.join("runs").join(l);
+            std::fs::create_dir_all(&run).unwrap();
+            std::fs::write(run.join("summary.json"), "{}").unwrap();
+        }
+    }
+
+    /// Every file and folder under `dir`, sorted.
+    fn tree(dir: &Path) -> Vec<PathBuf> {
+        let mut out = Vec::new();
+        for e in std::fs::read_dir(dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                out.extend(tree(&p));
+            }
+            out.push(p);
+        }
+        out.sort();
+        out
+    }
+
+    /// Regression (trial report A4): `--out` equal to, or inside, an input folder rewrote that
+    /// shard (or put a folder among its runs). Refused before anything is written, also when
+    /// `--out` does not exist yet or reaches the input through `..`.
+    #[test]
+    fn merge_refuses_an_out_folder_that_is_or_is_inside_an_input() {
+        let d = tempfile::tempdir().unwrap();
+        let (p1, p2) = (d.path().join("p1"), d.path().join("p2"));
+        shard(&p1, &["a"]);
+        shard(&p2, &["b"]);
+        let before = tree(d.path());
+        for (out, place) in [
+            (p1.clone(), "is the input"),
+            (p2.join("runs").join("x"), "is inside the input"),
+            (d.path().join("new").join("..").join("p1"), "is the input"),
+            (p1.join("."), "is the input"),
+        ] {
+            let e = merge(&[p1.clone(), p2.clone()], &out)
+                .unwrap_err()
+                .to_string();
+            assert!(
+                e.contains(place) && e.contains("--out"),
+                "{}: {e}",
+                out.display()
+            );
+            assert_eq!(tree(d.path()), before, "{}", out.display());
+        }
+        // A folder beside the inputs, or holding them, is fine.
+        let merged = merge(&[p1.clone(), p2.clone()], d.path()).unwrap();
+        assert_eq!(merged.rows.len(), 2);
+        assert!(d.path().join("runs/b/summary.json").is_file());
+    }
+
+    /// Regression (trial report A5): a merge refused for a run in two shards had already copied
+    /// the run folders of the shards before it. Nothing is written.
+    #[test]
+    fn a_failed_merge_writes_nothing() {
+        let d = tempfile::tempdir().unwrap();
+        let (p1, p2, p3) = (
+            d.path().join("p1"),
+            d.path().join("p2"),
+            d.path().join("p3"),
+        );
+        shard(&p1, &["a"]);
+        shard(&p2, &["b"]);
+        shard(&p3, &["c", "a"]);
+        let out = d.path().join("out");
+        let e = merge(&[p1.clone(), p2, p3], &out).unwrap_err().to_string();
+        assert!(e.contains("run a appears in more than one shard"), "{e}");
+        assert!(!out.exists(), "{:?}", tree(&out));
+        // An unknown run is refused the same way.
+        shard(&d.path().join("p4"), &["b"]);
+        let mut other = read_comparison(&d.path().join("p4")).unwrap();
+        other.rows[0].label = "z".into();
+        write_tables(&d.path().join("p4"), &other).unwrap();
+        let e = merge(&[p1, d.path().join("p4")], &out)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("unknown run z"), "{e}");
+        assert!(!out.exists());
+    }
 }

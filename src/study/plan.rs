@@ -19,8 +19,9 @@ pub struct ScenePlan {
     pub out: PathBuf,
 }
 
-/// Loads every scene of `study`, builds its configurations and checks every run's scene, and,
-/// unless `force`, that no run is estimated at more steps than a run may take
+/// Loads every scene of `study`, builds its configurations and checks every run's scene, that
+/// no two scenes share an output folder (the second would overwrite the first), and, unless
+/// `force`, that no run is estimated at more steps than a run may take
 /// ([`Simulation::check_step_estimate`]); `out(scene_name)` is the output folder of a scene.
 pub fn plan(
     study: &Study,
@@ -32,16 +33,29 @@ pub fn plan(
         duration: study.duration,
         ..Overrides::default()
     };
-    let mut plans = Vec::new();
-    for name in &study.scenes {
+    let mut plans: Vec<ScenePlan> = Vec::new();
+    for (i, name) in study.scenes.iter().enumerate() {
         let loaded = scene::resolve(Some(name), &overrides)?;
+        let out = out(&loaded.scene.name);
+        if let Some(j) = plans.iter().position(|p| p.out == out) {
+            let given = |k: usize, l: &LoadedScene| {
+                let from = study.scenes_from.get(k).unwrap_or(&study.scenes[k]);
+                format!("{from} ({}, named `{}`)", l.source, l.scene.name)
+            };
+            return Err(StudyError::Config(format!(
+                "{} and {} would write to the same folder {}: the second would overwrite the \
+                 first's results; list each scene once, or give one scene file another `name`",
+                given(j, &plans[j].loaded),
+                given(i, &loaded),
+                out.display()
+            )));
+        }
         let configs = configs_for(&study.runs, &loaded)?;
         if !force {
             for c in &configs {
                 check_steps(&loaded, c)?;
             }
         }
-        let out = out(&loaded.scene.name);
         plans.push(ScenePlan {
             loaded,
             configs,

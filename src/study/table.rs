@@ -35,15 +35,22 @@ impl Cell for String {
     }
 }
 
+/// A number not measured (NaN: a `hausdorff` of a run that stopped early, a column an older
+/// table lacks) is an empty cell, the usual CSV form of a missing value; `NaN` is read as well
+/// (tables written before).
 impl Cell for f64 {
     fn write(&self, format: Format) -> String {
         match format {
+            _ if self.is_nan() => String::new(),
             Format::Plain => format!("{self}"),
             Format::Fixed(d) => format!("{self:.d$}"),
             Format::Sci(d) => format!("{self:.d$e}"),
         }
     }
     fn read(text: &str) -> Result<Self, String> {
+        if text.is_empty() {
+            return Ok(f64::NAN);
+        }
         text.parse()
             .map_err(|_| format!("`{text}` is not a number"))
     }
@@ -161,8 +168,8 @@ impl Row {
     }
 }
 
-/// Columns added after tables were first written: an older table without one reads it as NaN
-/// (not measured).
+/// Columns added after tables were first written: an older table without one reads it as an
+/// empty cell, NaN (not measured).
 const LATER_COLUMNS: &[&str] = &["max_self_intersections"];
 
 /// The column names of `comparison.csv`, in order.
@@ -200,7 +207,7 @@ pub fn read_csv(path: &Path) -> Result<Vec<Row>, StudyError> {
     for (n, line) in lines.enumerate().filter(|(_, l)| !l.trim().is_empty()) {
         let cells: Vec<&str> = line.split(',').collect();
         let cell = |name: &str| match header.iter().position(|h| *h == name) {
-            None if LATER_COLUMNS.contains(&name) => Ok("NaN"),
+            None if LATER_COLUMNS.contains(&name) => Ok(""),
             position => position
                 .and_then(|k| cells.get(k).copied())
                 .ok_or_else(|| "short row".to_string()),
@@ -430,6 +437,35 @@ pub(crate) mod tests {
             .collect();
         std::fs::write(&p, reversed).unwrap();
         assert_eq!(read_csv(&p).unwrap()[1].label, "static-9-rk4");
+    }
+
+    /// Regression (trial report C3): a `hausdorff` not measured (a run that stopped before the
+    /// reference's end) was written `NaN`; it is an empty cell, read back as not measured, and
+    /// a `NaN` cell of an older table still reads.
+    #[test]
+    fn a_value_not_measured_is_an_empty_cell() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("c.csv");
+        let mut r = row("static-5-rk4");
+        (r.tracked_err, r.hausdorff) = (0.01, f64::NAN);
+        write_csv(&p, &[r]).unwrap();
+        let text = std::fs::read_to_string(&p).unwrap();
+        let k = column_names().position(|c| c == "hausdorff").unwrap();
+        let cells = |t: &str| -> Vec<String> {
+            t.lines()
+                .nth(1)
+                .unwrap()
+                .split(',')
+                .map(String::from)
+                .collect()
+        };
+        assert_eq!(cells(&text)[k], "");
+        assert!(!text.contains("NaN"), "{text}");
+        assert!(read_csv(&p).unwrap()[0].hausdorff.is_nan());
+        let older = text.replace(",,", ",NaN,");
+        std::fs::write(&p, &older).unwrap();
+        assert_eq!(cells(&older)[k], "NaN");
+        assert!(read_csv(&p).unwrap()[0].hausdorff.is_nan());
     }
 
     /// A table written before `max_self_intersections` existed reads it as not measured (NaN);

@@ -45,11 +45,28 @@ fn bad_input_exits_2_with_a_clear_message() {
     )
     .unwrap();
     let box_nan = ["run", boxed.to_str().unwrap()];
+    let box_ok = dir.path().join("box_ok.toml");
+    std::fs::write(
+        &box_ok,
+        "[[obstacles]]\nkind = \"box\"\ncenter = [0.0, 0.0, 0.0]\nhalf_extents = [0.1, 0.1, 0.1]\n",
+    )
+    .unwrap();
     let box_huge = [
         "run",
-        boxed.to_str().unwrap(),
+        box_ok.to_str().unwrap(),
         "--set",
         "obstacles.0.half_extents=[1e308, 1e308, 1e308]",
+    ];
+    // The file must be valid as written, also where an option replaces its value (trial report
+    // B1: a NaN duration under --duration ran).
+    let dur_nan = dir.path().join("dur_nan.toml");
+    std::fs::write(&dur_nan, "[time]\nduration = nan\n").unwrap();
+    let dur_replaced = ["run", dur_nan.to_str().unwrap(), "--duration", "0.02"];
+    let dur_set = [
+        "run",
+        dur_nan.to_str().unwrap(),
+        "--set",
+        "time.duration=0.02",
     ];
     let empty = dir.path().join("empty.toml");
     std::fs::write(&empty, "# nothing\n\n").unwrap();
@@ -128,12 +145,26 @@ fn bad_input_exits_2_with_a_clear_message() {
             "cloth.size",
         ),
         (box_nan.as_slice().to_vec(), "half_extents"),
+        (
+            dur_replaced.as_slice().to_vec(),
+            "dur_nan.toml:2: time.duration = NaN: expected a finite value > 0",
+        ),
+        (
+            dur_set.as_slice().to_vec(),
+            "dur_nan.toml:2: time.duration = NaN: expected a finite value > 0",
+        ),
         // The hostile sweep: a huge box passed `> 0` and panicked in the contact query.
         (
             box_huge.as_slice().to_vec(),
             "half_extents=[1e308, 1e308, 1e308]: expected a length in (0, 1e6] m",
         ),
         (vec!["run", empty.to_str().unwrap()], "sets nothing"),
+        // Two scenes of one name would share a folder (trial report A2).
+        (
+            vec!["compare", "sphere", "sphere", "--out", "/nonexistent/o"],
+            "scene 1 = \"sphere\" (<embedded sphere>, named `sphere`) and scene 2 = \"sphere\" \
+             (<embedded sphere>, named `sphere`) would write to the same folder /nonexistent/o/sphere",
+        ),
         // Runs that would never finish (issue 15, defect 3).
         (
             vec!["run", "--set", "time.metrics_rate=1e20"],

@@ -217,7 +217,54 @@ fn reference_command_reports_the_floor_and_bad_options_exit_2() {
     assert_eq!(code, 0, "{text}");
     assert!(text.contains("error floor (3x3 against 5x5)"), "{text}");
     let entry = std::fs::read_dir(&cache).unwrap().next().unwrap().unwrap();
-    assert!(entry.path().join("reference.bin").is_file());
+    let bin = entry.path().join("reference.bin");
+    assert!(bin.is_file());
+    // A NaN written over the data (trial report A6) is not used as "(cached)": the entry is
+    // recomputed, saying why on stderr.
+    let mut bytes = std::fs::read(&bin).unwrap();
+    let at = bytes.len() - 4;
+    bytes[at..].copy_from_slice(&f32::NAN.to_le_bytes());
+    std::fs::write(&bin, &bytes).unwrap();
+    let again = |args: &[&str]| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+            .args(args)
+            .output()
+            .unwrap();
+        let (stdout, stderr) = (
+            String::from_utf8_lossy(&out.stdout).into_owned(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        );
+        (out.status.code(), stdout, stderr)
+    };
+    let args = [
+        "reference",
+        "sphere",
+        "--ref-resolution",
+        "5",
+        "--floor-resolution",
+        "3",
+        "--samples",
+        "8",
+        "--duration",
+        "0.02",
+        "--cache",
+        cache.to_str().unwrap(),
+        "--quiet",
+    ];
+    let (code, stdout, stderr) = again(&args);
+    assert_eq!(code, Some(0), "{stdout}{stderr}");
+    assert!(
+        stderr.contains("malformed reference cache file")
+            && stderr.contains("the reference was recomputed"),
+        "{stderr}"
+    );
+    assert!(!stdout.contains("(cached)"), "{stdout}");
+    // The rewritten entry is valid again.
+    let (_, stdout, stderr) = again(&args);
+    assert!(
+        stdout.contains("(cached)") && !stderr.contains("warning"),
+        "{stdout}{stderr}"
+    );
     for (args, needle) in [
         (vec!["compare", "--runs", "magic"], "unknown strategy"),
         (vec!["compare", "--shard", "3/2"], "--shard"),
