@@ -2,6 +2,7 @@
 //! expected.
 
 use super::{AdaptivitySpec, ClothShape, CriteriaSpec, ObstacleShape, Scene, SceneError};
+use crate::console::clip;
 use crate::math::Real;
 use std::path::Path;
 
@@ -37,7 +38,7 @@ const MAX_RELAXATION_PASSES: usize = 1_000;
 
 /// Where `key`'s value came from and what it is: the setting that set it (its place names the key
 /// and the value: `--set key=value`); for a list element `key[i]` set as a whole, that setting then
-/// `key[i] = value`; else the file, the key's line and `key = value`.
+/// `key[i] = value`; else the file, the key's line and `key = value`; both clipped ([`clip`]).
 pub(super) fn subject(
     text: &str,
     source: &str,
@@ -46,9 +47,10 @@ pub(super) fn subject(
     value: &str,
 ) -> String {
     let whole = key.split('[').next().unwrap_or(key);
+    let value = clip(value);
     match options.iter().rev().find(|(k, _)| k == key || k == whole) {
-        Some((k, place)) if k == key => place.clone(),
-        Some((_, place)) => format!("{place}: {key} = {value}"),
+        Some((k, place)) if k == key => clip(place).into_owned(),
+        Some((_, place)) => format!("{}: {key} = {value}", clip(place)),
         None => {
             let line = find_line(text, key)
                 .map(|l| format!(":{l}"))

@@ -21,7 +21,9 @@ pub struct ScenePlan {
 
 /// Loads every scene of `study`, builds its configurations and checks every run's scene, and,
 /// unless `force`, that no run is estimated at more steps than a run may take
-/// ([`Simulation::check_step_estimate`]); `out(scene_name)` is the output folder of a scene.
+/// ([`Simulation::check_step_estimate`]); `out(scene_name)` is the output folder of a scene (a
+/// folder name made from the scene's `name` must fit a file system:
+/// [`LoadedScene::check_folder_name`]).
 pub fn plan(
     study: &Study,
     out: impl Fn(&str) -> PathBuf,
@@ -41,11 +43,16 @@ pub fn plan(
                 check_steps(&loaded, c)?;
             }
         }
-        let out = out(&loaded.scene.name);
+        let dir = out(&loaded.scene.name);
+        // A folder named after the scene (not the one `--out` names whatever the scene).
+        let unnamed = out("");
+        if let Some(folder) = dir.file_name().filter(|f| Some(*f) != unnamed.file_name()) {
+            loaded.check_folder_name(&folder.to_string_lossy(), "")?;
+        }
         plans.push(ScenePlan {
             loaded,
             configs,
-            out,
+            out: dir,
         });
     }
     Ok(plans)
