@@ -15,6 +15,8 @@
 //!
 //! - [`math`]: scalar and vector aliases over nalgebra.
 //! - [`parallel`]: whether work may be split over the thread pool.
+//! - [`console`]: status lines on stdout and stderr that a closed pipe cannot turn into a panic
+//!   (`say!`, `note!`), and the clipping of long values they echo.
 //! - [`io`]: files: the one OBJ reader/writer, the metrics table, numeric CSV, atomic writes.
 //! - [`mesh`]: topology and rest (pattern) geometry, the one checked edit, the conformity checker,
 //!   generators, OBJ cloths, material-point location.
@@ -36,6 +38,7 @@ pub mod adapt;
 pub mod cli;
 pub mod cloth;
 pub mod collision;
+pub mod console;
 pub mod eval;
 pub mod io;
 pub mod math;

@@ -13,7 +13,7 @@ fn main() -> ExitCode {
         Err(e) => {
             let message = e.to_string();
             if !message.is_empty() {
-                eprintln!("error: {message}");
+                adaptcloth::note!("error: {message}");
             }
             ExitCode::from(e.exit_code())
         }

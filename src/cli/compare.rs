@@ -3,10 +3,11 @@
 use super::args::{
     CompareArgs, DocsArgs, ExecutionArgs, MergeArgs, RefOpts, ReferenceArgs, ReportArgs, StudyArgs,
 };
-use super::{interrupt_flag, output_folder, read_input, show_progress, CliError};
+use super::{cache_folder, interrupt_flag, output_folder, show_progress, CliError};
+use crate::console::clip;
 use crate::eval::reference::{self, ReferenceSettings};
 use crate::scene::{self, Overrides, Setting};
-use crate::study::{self, CompareOptions, Comparison, ScenePlan, Shard, Study};
+use crate::study::{self, CompareOptions, Comparison, ScenePlan, Shard, Study, StudyError};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::Ordering;
 
@@ -72,6 +73,7 @@ fn reference_settings(o: &RefOpts) -> Result<ReferenceSettings, CliError> {
 pub fn reference(args: ReferenceArgs) -> Result<(), CliError> {
     let loaded = scene::resolve(args.scene.as_deref(), &overrides(&args.set, args.duration))?;
     let settings = reference_settings(&args.reference)?;
+    cache_folder(&args.reference.cache)?;
     let progress = study::pool::Progress::new(show_progress(args.quiet));
     let clock = std::time::Instant::now();
     let r = reference::ensure_reference(
@@ -84,10 +86,10 @@ pub fn reference(args: ReferenceArgs) -> Result<(), CliError> {
         Some(interrupt_flag()),
     )?;
     if let Some(note) = r.discarded_note() {
-        eprintln!("{note}");
+        crate::note!("{note}");
     }
-    println!("{}", reference::describe(&r));
-    eprintln!("done in {:.1} s", clock.elapsed().as_secs_f64());
+    crate::say!("{}", reference::describe(&r));
+    crate::note!("done in {:.1} s", clock.elapsed().as_secs_f64());
     Ok(())
 }
 
@@ -199,8 +201,9 @@ fn study_command(args: &StudyArgs) -> String {
 
 /// `study --references-only`: each scene's reference in the cache, nothing else.
 fn references(definition: &Study, plans: &[ScenePlan], e: &Execution) -> Result<(), CliError> {
+    cache_folder(&e.cache)?;
     for r in ensure_references(definition, plans, e)? {
-        println!("{}", reference::describe(&r));
+        crate::say!("{}", reference::describe(&r));
     }
     Ok(())
 }
@@ -228,6 +231,8 @@ fn ensure_references(
     Ok(study::pool::run_all(
         &first,
         e.jobs,
+        // Each reference stops on the interrupt itself, and fails: the command exits 130.
+        None,
         &progress,
         |_| 0,
         |&i| plans[i].loaded.scene.name.clone(),
@@ -285,6 +290,7 @@ fn run_plans(
     for plan in &plans {
         output_folder(&plan.out)?;
     }
+    cache_folder(&e.cache)?;
     if plans.len() > 1 {
         ensure_references(definition, &plans, e)?;
     }
@@ -300,11 +306,12 @@ fn run_plans(
         let clock = std::time::Instant::now();
         let shard_text = e.shard.map(|s| format!(", shard {s}")).unwrap_or_default();
         let (scene, count) = (&loaded.scene.name, configs.len());
-        eprintln!(
-            "adaptcloth {}: {scene} ({}), {count} configuration(s){shard_text} -> {}",
-            definition.name,
-            loaded.source,
-            out.display()
+        crate::note!(
+            "adaptcloth {}: {} ({}), {count} configuration(s){shard_text} -> {}",
+            clip(&definition.name),
+            clip(scene),
+            clip(&loaded.source),
+            clip(&out.to_string_lossy())
         );
         let opts = CompareOptions {
             configs,
@@ -321,8 +328,8 @@ fn run_plans(
         let comparison = study::compare(&loaded, &opts)?;
         crate::report::write_report(&out, &comparison)?;
         let (runs, secs) = (comparison.rows.len(), clock.elapsed().as_secs_f64());
-        eprintln!("{scene}: {runs} run(s) in {secs:.1} s");
-        println!(
+        crate::note!("{}: {runs} run(s) in {secs:.1} s", clip(scene));
+        crate::say!(
             "{}report: {}\n",
             crate::report::ranking::ranking(&comparison),
             out.join("report.html").display()
@@ -335,14 +342,18 @@ fn run_plans(
     Ok(done)
 }
 
-/// The `--docs-notes` file's text, read before anything runs.
+/// The `--docs-notes` file's text, read before anything runs (exit 2 naming the option when it
+/// cannot be read).
 fn read_notes(docs: &DocsArgs) -> Result<String, CliError> {
-    Ok(docs
-        .docs_notes
-        .as_deref()
-        .map(read_input)
-        .transpose()?
-        .unwrap_or_default())
+    let Some(path) = &docs.docs_notes else {
+        return Ok(String::new());
+    };
+    crate::io::read_text(path).map_err(|e| {
+        CliError::Input(format!(
+            "--docs-notes {}: cannot be read: {e}; expected a markdown file",
+            path.display()
+        ))
+    })
 }
 
 /// `--write-docs DIR`: `DIR/results.md` over the comparisons, with the notes.
@@ -354,21 +365,33 @@ fn write_docs(
 ) -> Result<(), CliError> {
     if let Some(dir) = dir {
         let path = crate::report::write_docs(&dir, done, command, &notes)?;
-        eprintln!("wrote {}", path.display());
+        crate::note!("wrote {}", path.display());
     }
     Ok(())
 }
 
+/// A study error of `command` (`merge`, `report`): a comparison folder it refused names the
+/// command (exit 2); the other errors are as they are.
+fn refused_by(command: &'static str) -> impl Fn(StudyError) -> CliError {
+    move |e| match e {
+        StudyError::Config(why) => CliError::Input(format!("{command}: {why}")),
+        e => e.into(),
+    }
+}
+
 /// `adaptcloth merge`: shard folders into one comparison and its report.
 pub fn merge(args: MergeArgs) -> Result<(), CliError> {
-    let comparison = study::merge(&args.dirs, &args.out)?;
+    let comparison = study::merge(&args.dirs, &args.out).map_err(refused_by("merge"))?;
     crate::report::write_report(&args.out, &comparison)?;
-    eprintln!(
+    crate::note!(
         "merged {} run(s) from {} folder(s); report: {}",
         comparison.rows.len(),
         args.dirs.len(),
         args.out.join("report.md").display()
     );
+    for missing in &comparison.manifest.skipped {
+        crate::note!("missing run {}: {}", missing.label, missing.reason);
+    }
     Ok(())
 }
 
@@ -377,9 +400,9 @@ pub fn report(args: ReportArgs) -> Result<(), CliError> {
     let notes = read_notes(&args.docs)?;
     let mut done = Vec::new();
     for dir in &args.dirs {
-        let comparison = study::read_comparison(dir)?;
+        let comparison = study::read_comparison(dir).map_err(refused_by("report"))?;
         crate::report::write_report(dir, &comparison)?;
-        eprintln!("{}", dir.join("report.md").display());
+        crate::note!("{}", dir.join("report.md").display());
         done.push((dir.clone(), comparison));
     }
     write_docs(args.docs.write_docs, &done, &args.docs_command, notes)

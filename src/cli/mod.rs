@@ -123,7 +123,7 @@ pub fn configure_threads(threads: Option<u16>, parallel_runs: usize) {
         .num_threads(count)
         .build_global()
     {
-        eprintln!("warning: the thread pool was not resized to {count} threads: {e}");
+        crate::note!("warning: the thread pool was not resized to {count} threads: {e}");
     }
 }
 
@@ -144,7 +144,7 @@ pub fn interrupt_flag() -> Arc<AtomicBool> {
         let _ = ctrlc::set_handler(move || {
             let at = *first.get_or_init(Instant::now);
             if handler_flag.swap(true, Ordering::SeqCst) && at.elapsed() >= REPEATED_SIGNAL {
-                eprintln!("interrupted again: exiting at once; this run's output is incomplete");
+                crate::note!("interrupted again: exiting at once; this run's output is incomplete");
                 std::process::exit(130);
             }
         });
@@ -166,7 +166,7 @@ fn write_report_file(path: &Path, text: &str) -> Result<(), CliError> {
     }
     crate::io::write_atomic(path, text.as_bytes())
         .map_err(|e| CliError::Failed(format!("writing {}: {e}", path.display())))?;
-    eprintln!("wrote {}", path.display());
+    crate::note!("wrote {}", path.display());
     Ok(())
 }
 
@@ -190,21 +190,50 @@ fn check_report_path(path: &Path) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Creates the output folder `dir` (exit 2 when it cannot be: a file in the way, no permission).
+/// Creates the output folder `dir` of `--out` and checks that files can be written in it
+/// ([`writable_folder`]).
 fn output_folder(dir: &Path) -> Result<(), CliError> {
+    writable_folder("--out", "output folder", dir)
+}
+
+/// Creates the reference cache folder `dir` of `--cache` and checks that files can be written
+/// in it ([`writable_folder`]).
+fn cache_folder(dir: &Path) -> Result<(), CliError> {
+    writable_folder("--cache", "cache folder", dir)
+}
+
+/// Creates the folder `dir` that `option` names (`what` it is for) and writes and removes a file
+/// in it, so that a command refuses an unusable folder (exit 2 naming the option) before it runs
+/// anything: a file or device in the way (`dir` or one of its parents), no permission, a
+/// read-only or pseudo file system (`/proc`).
+fn writable_folder(option: &str, what: &str, dir: &Path) -> Result<(), CliError> {
+    let refuse = |why: String| CliError::Input(format!("{option} {}: {why}", dir.display()));
     std::fs::create_dir_all(dir).map_err(|e| {
-        // Name the file in the way (`dir` itself or one of its parents), not only the OS error.
-        let in_the_way = dir.ancestors().find(|a| a.is_file());
+        // Name what is in the way (`dir` itself or one of its parents), not only the OS error.
+        let in_the_way = dir.ancestors().find(|a| a.exists() && !a.is_dir());
+        let kind = |p: &Path| {
+            if p.is_file() {
+                "a file"
+            } else {
+                "a device, pipe or socket"
+            }
+        };
         let why = match in_the_way {
-            Some(f) if f == dir => "it is a file, not a folder".to_string(),
-            Some(f) => format!("{} is a file, not a folder", f.display()),
+            Some(f) if f == dir => format!("it is {}, not a folder", kind(f)),
+            Some(f) => format!("{} is {}, not a folder", f.display(), kind(f)),
             None => e.to_string(),
         };
-        CliError::Input(format!(
-            "--out {}: cannot create the output folder: {why}",
-            dir.display()
-        ))
-    })
+        refuse(format!("cannot create the {what}: {why}"))
+    })?;
+    let probe = dir.join(format!(".adaptcloth-probe-{}", std::process::id()));
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create(true)
+        .truncate(true)
+        .open(&probe)
+        .map_err(|e| refuse(format!("cannot write in the {what}: {e}")))?;
+    let _ = std::fs::remove_file(&probe);
+    Ok(())
 }
 
 /// The text of an input file (exit 2 when it cannot be read).

@@ -2,6 +2,7 @@
 
 use super::args::{RenderArgs, RunArgs};
 use super::{interrupt_flag, output_folder, show_progress, CliError};
+use crate::console::clip;
 use crate::report::render::{obstacle_meshes, render_png, FrameMesh};
 use crate::scene::{self, Overrides, Setting, EMBEDDED_SCENES};
 use crate::sim::{self, RunOptions, RunStatus, SetupError, Simulation};
@@ -27,10 +28,15 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
             .check_step_estimate()
             .map_err(|e| CliError::Input(format!("{}: {e}; {}", loaded.source, sim::FORCE_HINT)))?;
     }
-    let out_dir = args.out.unwrap_or_else(|| {
-        let name = format!("{}-{}", loaded.scene.name, simulation.strategy_name());
-        PathBuf::from("out").join(name)
-    });
+    let out_dir = match args.out {
+        Some(dir) => dir,
+        None => {
+            let name = format!("{}-{}", loaded.scene.name, simulation.strategy_name());
+            let remedy = ", or give --out to name the folder yourself";
+            loaded.check_folder_name(&name, remedy)?;
+            PathBuf::from("out").join(name)
+        }
+    };
     output_folder(&out_dir)?;
     let command = sim::this_command();
     let opts = RunOptions {
@@ -42,19 +48,19 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
         command,
         ..RunOptions::default()
     };
-    eprintln!(
+    crate::note!(
         "adaptcloth: {} ({}), strategy {}, integrator {}, {} vertices, {} s -> {}",
-        loaded.scene.name,
-        loaded.source,
+        clip(&loaded.scene.name),
+        clip(&loaded.source),
         simulation.strategy_name(),
         simulation.integrator_name(),
         simulation.cloth.mesh.vertex_count(),
         loaded.scene.time.duration,
-        out_dir.display()
+        clip(&out_dir.to_string_lossy())
     );
     let s = sim::run(&mut simulation, &opts)
         .map_err(|e| CliError::Failed(format!("writing outputs to {}: {e}", out_dir.display())))?;
-    eprintln!(
+    crate::note!(
         "{:?}: {} steps, t = {:.4} s, {} frames, {} vertices (max {}), max penetration {:.2e} m (surface {:.2e} m), {} self-intersections, wall {:.2} s",
         s.status, s.steps, s.sim_time, s.frames, s.final_vertices, s.max_vertices,
         s.max_penetration, s.max_surface_penetration, s.max_self_intersections, s.wall_time_s
@@ -75,7 +81,7 @@ pub fn scenes() -> Result<(), CliError> {
             .find_map(|l| l.strip_prefix("description = "))
             .unwrap_or("")
             .trim_matches('"');
-        println!("{name:width$}  {description}", width = width.unwrap_or(0));
+        crate::say!("{name:width$}  {description}", width = width.unwrap_or(0));
     }
     Ok(())
 }
@@ -122,6 +128,6 @@ pub fn render(args: RenderArgs) -> Result<(), CliError> {
 pub fn frame_diff(a: &Path, b: &Path) -> Result<(), CliError> {
     let (rms, max) =
         crate::eval::frame_distance(a, b).map_err(|e| CliError::Input(e.to_string()))?;
-    println!("rms {rms:.6e} m, max {max:.6e} m");
+    crate::say!("rms {rms:.6e} m, max {max:.6e} m");
     Ok(())
 }

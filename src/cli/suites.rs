@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 /// into `docs` between its markers.
 pub fn integrators(write_docs: bool, docs: &Path) -> Result<(), CliError> {
     let table = integrators::report();
-    print!("{table}");
+    crate::console::stdout(format_args!("{table}"));
     if !write_docs {
         return Ok(());
     }
@@ -61,7 +61,7 @@ pub fn stability(out: Option<&Path>, quick: bool, strategy: Option<&str>) -> Res
     let out = out.unwrap_or(&default_out);
     check_report_path(out)?;
     let suite = stability::report(&search, &sizes, &strategies, |s| {
-        eprintln!("adaptcloth stability: {s}")
+        crate::note!("adaptcloth stability: {s}")
     });
     write_report_file(out, &suite.markdown)?;
     if suite.failed > 0 {

@@ -29,6 +29,10 @@ pub const SOURCE_SCENES: [&str; 3] = ["sphere", "round_table", "bunny"];
 /// The embedded scene run when no scene is named: the source's sphere test (Test III).
 pub const DEFAULT_SCENE: &str = "sphere";
 
+/// Most bytes of one folder name on common file systems (Linux's `NAME_MAX`): the longest output
+/// folder name a scene's `name` may make ([`LoadedScene::check_folder_name`]).
+pub const MAX_FOLDER_NAME: usize = 255;
+
 /// Names of the scenes shipped in `scenes/` and embedded in the binary.
 pub const EMBEDDED_SCENES: &[(&str, &str)] = &[
     ("sphere", include_str!("../../scenes/sphere.toml")),
@@ -66,6 +70,23 @@ impl LoadedScene {
     /// `tracked.0.rest`).
     pub fn subject(&self, key: &str, value: &str) -> String {
         validate::subject(&self.text, &self.source, &self.options, key, value)
+    }
+
+    /// Refuses `folder`, the name of an output folder made from the scene's `name`, when it is
+    /// longer than a file system allows ([`MAX_FOLDER_NAME`] bytes), naming the `name` key (its
+    /// line) rather than the folder; `remedy` ends the message (`; or give --out ...`).
+    pub fn check_folder_name(&self, folder: &str, remedy: &str) -> Result<(), SceneError> {
+        if folder.len() <= MAX_FOLDER_NAME {
+            return Ok(());
+        }
+        Err(SceneError::Invalid {
+            subject: self.subject("name", &self.scene.name),
+            expected: format!(
+                "too long for a folder name: the output folder {} is named after it, and a file \
+                 system allows {MAX_FOLDER_NAME} bytes; shorten it{remedy}",
+                crate::console::clip(folder),
+            ),
+        })
     }
 
     /// Checks what a scene must satisfy to be run, beyond [`validate`]'s ranges: the sizing

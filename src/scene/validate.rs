@@ -3,6 +3,7 @@
 
 use super::adaptivity::{sizing_options, strategy_options};
 use super::{ClothShape, ObstacleShape, Scene, SceneError};
+use crate::console::clip;
 use crate::math::Real;
 use std::path::Path;
 
@@ -38,7 +39,8 @@ const MAX_RELAXATION_PASSES: usize = 1_000;
 
 /// Where `key`'s value came from and what it is: the setting that set it (its place names the key
 /// and the value: `--set key=value`); for a list element `key[i]` or a key `key.sub` set as a
-/// whole, that setting then `key[i] = value`; else the file, the key's line and `key = value`.
+/// whole, that setting then `key[i] = value`; else the file, the key's line and `key = value`;
+/// both clipped ([`clip`]).
 pub(super) fn subject(
     text: &str,
     source: &str,
@@ -51,9 +53,10 @@ pub(super) fn subject(
         key.strip_prefix(k)
             .is_some_and(|r| r.starts_with(['[', '.']))
     };
+    let value = clip(value);
     match options.iter().rev().find(|(k, _)| k == key || within(k)) {
-        Some((k, place)) if k == key => place.clone(),
-        Some((_, place)) => format!("{place}: {key} = {value}"),
+        Some((k, place)) if k == key => clip(place).into_owned(),
+        Some((_, place)) => format!("{}: {key} = {value}", clip(place)),
         None => {
             let line = find_line(text, key)
                 .map(|l| format!(":{l}"))

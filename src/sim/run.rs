@@ -353,7 +353,7 @@ fn warn_unconverged(sim: &Simulation, stats: &crate::physics::StepStats, out_dir
     } else {
         ""
     };
-    eprintln!(
+    crate::note!(
         "warning: {}: the implicit solve did not converge at step {}, t = {:.6} s: {}. The run \
          goes on with the last iterate; every such step is counted in cg_unconverged \
          (metrics.csv, summary.json) and not reported again; integrator.on_unconverged = \

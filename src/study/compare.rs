@@ -7,7 +7,7 @@
 use super::config::RunConfig;
 use super::pool::{self, Progress};
 use super::shard::Shard;
-use super::table::{Comparison, Manifest, ReferenceInfo, Row};
+use super::table::{Comparison, Manifest, ReferenceInfo, Row, Skipped};
 use super::{io_err, StudyError};
 use crate::eval::error_map::{error_maps, write_error_maps};
 use crate::eval::metrics;
@@ -44,7 +44,8 @@ pub struct CompareOptions {
 
 /// Runs the comparison of `base`: the reference (cached), then every configuration of the
 /// shard, `jobs` at a time. Per-run failures become rows with their status; only the reference
-/// failing, bad options or I/O stop it.
+/// failing, bad options or I/O stop it. After an interrupt no run starts: the runs begun end as
+/// `interrupted` rows, the others are listed in the manifest's `skipped`.
 pub fn compare(base: &LoadedScene, opts: &CompareOptions) -> Result<Comparison, StudyError> {
     let labels: Vec<String> = opts.configs.iter().map(RunConfig::label).collect();
     let mine = match opts.shard {
@@ -71,6 +72,7 @@ pub fn compare(base: &LoadedScene, opts: &CompareOptions) -> Result<Comparison, 
     let rows = pool::run_all(
         &mine,
         jobs,
+        opts.interrupt.as_deref(),
         &progress,
         |c| c.resolution,
         RunConfig::label,
@@ -102,7 +104,7 @@ pub fn compare(base: &LoadedScene, opts: &CompareOptions) -> Result<Comparison, 
         duration: base.scene.time.duration,
         beta: base.scene.time.beta,
         configs: labels,
-        skipped: Vec::new(),
+        skipped: not_started(&mine, &rows),
         shard: opts.shard,
         jobs,
         reference: reference_info(&reference),
@@ -110,6 +112,18 @@ pub fn compare(base: &LoadedScene, opts: &CompareOptions) -> Result<Comparison, 
         collision: Some(base.scene.collision.clone()),
     };
     Ok(Comparison { manifest, rows })
+}
+
+/// The configurations of `mine` without a row: not started because of an interrupt.
+fn not_started(mine: &[RunConfig], rows: &[Row]) -> Vec<Skipped> {
+    mine.iter()
+        .map(RunConfig::label)
+        .filter(|label| rows.iter().all(|r| r.label != *label))
+        .map(|label| Skipped {
+            label,
+            reason: "not started: the study was interrupted".into(),
+        })
+        .collect()
 }
 
 fn reference_info(r: &Reference) -> ReferenceInfo {

@@ -36,7 +36,7 @@ use std::path::Path;
 /// Why a study could not be run, merged or read.
 #[derive(Debug, thiserror::Error)]
 pub enum StudyError {
-    /// A configuration, shard or option is invalid (bad input).
+    /// A configuration, shard, option or comparison folder is invalid (bad input).
     #[error("{0}")]
     Config(String),
     /// The reference could not be made.
@@ -50,7 +50,7 @@ pub enum StudyError {
         /// The error.
         source: std::io::Error,
     },
-    /// Folders cannot be merged or read as comparisons (bad input).
+    /// Comparison folders cannot be merged (bad input).
     #[error("merge: {0}")]
     Merge(String),
     /// A scene of the study is invalid (bad input).

@@ -22,7 +22,9 @@ pub struct ScenePlan {
 /// Loads every scene of `study`, builds its configurations and checks every run's scene, that
 /// no two scenes share an output folder (the second would overwrite the first), and, unless
 /// `force`, that no run is estimated at more steps than a run may take
-/// ([`Simulation::check_step_estimate`]); `out(scene_name)` is the output folder of a scene.
+/// ([`Simulation::check_step_estimate`]); `out(scene_name)` is the output folder of a scene (a
+/// folder name made from the scene's `name` must fit a file system:
+/// [`LoadedScene::check_folder_name`]).
 pub fn plan(
     study: &Study,
     out: impl Fn(&str) -> PathBuf,
@@ -36,8 +38,8 @@ pub fn plan(
     let mut plans: Vec<ScenePlan> = Vec::new();
     for (i, name) in study.scenes.iter().enumerate() {
         let loaded = scene::resolve(Some(name), &overrides)?;
-        let out = out(&loaded.scene.name);
-        if let Some(j) = plans.iter().position(|p| p.out == out) {
+        let dir = out(&loaded.scene.name);
+        if let Some(j) = plans.iter().position(|p| p.out == dir) {
             let given = |k: usize, l: &LoadedScene| {
                 let from = study.scenes_from.get(k).unwrap_or(&study.scenes[k]);
                 format!("{from} ({}, named `{}`)", l.source, l.scene.name)
@@ -47,7 +49,7 @@ pub fn plan(
                  first's results; list each scene once, or give one scene file another `name`",
                 given(j, &plans[j].loaded),
                 given(i, &loaded),
-                out.display()
+                dir.display()
             )));
         }
         let configs = configs_for(&study.runs, &loaded)?;
@@ -56,10 +58,15 @@ pub fn plan(
                 check_steps(&loaded, c)?;
             }
         }
+        // A folder named after the scene (not the one `--out` names whatever the scene).
+        let unnamed = out("");
+        if let Some(folder) = dir.file_name().filter(|f| Some(*f) != unnamed.file_name()) {
+            loaded.check_folder_name(&folder.to_string_lossy(), "")?;
+        }
         plans.push(ScenePlan {
             loaded,
             configs,
-            out,
+            out: dir,
         });
     }
     Ok(plans)

@@ -2,7 +2,7 @@
 //! first, each with its own progress bar; results keep the list's order.
 
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Mutex;
 
 /// Progress display of a study: one bar per running item, finished lines printed above them.
@@ -35,7 +35,7 @@ impl Progress {
         if self.shown {
             let _ = self.multi.println(line);
         } else {
-            eprintln!("{line}");
+            crate::note!("{line}");
         }
     }
 }
@@ -43,10 +43,12 @@ impl Progress {
 /// Runs `work(item, bar)` for every item on `jobs` threads (at least one), starting with the
 /// items of largest `size` (shortest makespan); each call gets a fresh bar labelled by
 /// `label(item)`, cleared when it returns. Returns the results in the items' order; stops taking
-/// new items after the first error and returns it.
+/// new items after the first error and returns it, or once `stop` is set (Ctrl-C): the items
+/// begun by then finish, the others have no result.
 pub fn run_all<T: Sync, R: Send, E: Send>(
     items: &[T],
     jobs: usize,
+    stop: Option<&AtomicBool>,
     progress: &Progress,
     size: impl Fn(&T) -> usize,
     label: impl Fn(&T) -> String + Sync,
@@ -61,7 +63,8 @@ pub fn run_all<T: Sync, R: Send, E: Send>(
     std::thread::scope(|s| {
         for _ in 0..jobs.max(1).min(items.len()) {
             s.spawn(|| loop {
-                if first_error.lock().expect(lock_poisoned).is_some() {
+                let stopped = stop.is_some_and(|s| s.load(Ordering::SeqCst));
+                if stopped || first_error.lock().expect(lock_poisoned).is_some() {
                     break;
                 }
                 let k = next.fetch_add(1, Ordering::SeqCst);
@@ -100,6 +103,7 @@ mod tests {
         let out: Result<Vec<usize>, ()> = run_all(
             &items,
             3,
+            None,
             &progress,
             |&i| i,
             |i| i.to_string(),
@@ -109,11 +113,35 @@ mod tests {
         let out: Result<Vec<usize>, usize> = run_all(
             &items,
             2,
+            None,
             &progress,
             |_| 0,
             |i| i.to_string(),
             |&i, _| if i == 5 { Err(i) } else { Ok(i) },
         );
         assert_eq!(out.unwrap_err(), 5);
+    }
+
+    /// After an interrupt no item starts: a study's runs not begun are not run.
+    #[test]
+    fn no_item_starts_once_stop_is_set() {
+        let progress = Progress::new(false);
+        let items: Vec<usize> = (0..20).collect();
+        let stop = AtomicBool::new(false);
+        let out: Result<Vec<usize>, ()> = run_all(
+            &items,
+            1,
+            Some(&stop),
+            &progress,
+            |_| 0,
+            |i| i.to_string(),
+            |&i, _| {
+                if i == 3 {
+                    stop.store(true, Ordering::SeqCst);
+                }
+                Ok(i)
+            },
+        );
+        assert_eq!(out.unwrap(), [0, 1, 2, 3]);
     }
 }

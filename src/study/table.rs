@@ -188,10 +188,15 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<(), StudyError> {
     crate::io::write_atomic(path, s.as_bytes()).map_err(super::io_err(path))
 }
 
-/// Reads `comparison.csv`; columns are found by name, so their order in the file is free.
+/// Reads `comparison.csv`; columns are found by name, so their order in the file is free. A
+/// file that is missing, unreadable or malformed is bad input ([`StudyError::Config`]).
 pub fn read_csv(path: &Path) -> Result<Vec<Row>, StudyError> {
-    let text = crate::io::read_text(path).map_err(super::io_err(path))?;
-    let bad = |why: String| StudyError::Merge(format!("{}: {why}", path.display()));
+    let bad = |why: String| StudyError::Config(format!("{}: {why}", path.display()));
+    let text = crate::io::read_text(path).map_err(|e| {
+        bad(format!(
+            "cannot be read: {e}; expected the comparison table written beside comparison.json"
+        ))
+    })?;
     let mut lines = text.lines();
     let header: Vec<&str> = lines
         .next()
@@ -313,7 +318,8 @@ pub fn write_tables(out: &Path, c: &Comparison) -> Result<(), StudyError> {
 }
 
 /// Reads a comparison folder (`comparison.json` and `comparison.csv`); a path that is not a
-/// folder holding `comparison.json` is bad input ([`StudyError::Config`]), not a failed read.
+/// folder holding both, readable and well formed, is bad input ([`StudyError::Config`]), not a
+/// failed read. The messages name the file, not the command.
 pub fn read_comparison(dir: &Path) -> Result<Comparison, StudyError> {
     let path = dir.join("comparison.json");
     if !path.is_file() {
@@ -330,9 +336,9 @@ pub fn read_comparison(dir: &Path) -> Result<Comparison, StudyError> {
             dir.display()
         )));
     }
-    let text = crate::io::read_text(&path).map_err(super::io_err(&path))?;
-    let manifest: Manifest = serde_json::from_str(&text)
-        .map_err(|e| StudyError::Merge(format!("{}: {e}", path.display())))?;
+    let bad = |why: String| StudyError::Config(format!("{}: {why}", path.display()));
+    let text = crate::io::read_text(&path).map_err(|e| bad(format!("cannot be read: {e}")))?;
+    let manifest: Manifest = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
     let rows = read_csv(&dir.join("comparison.csv"))?;
     Ok(Comparison { manifest, rows })
 }
