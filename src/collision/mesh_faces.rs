@@ -182,53 +182,95 @@ pub(super) fn mesh_contact(
     band: Real,
 ) -> Option<TriangleContact> {
     let normals = mesh.unit_normals.as_ref()?;
-    let tri = tri.map(|p| solid.mesh_point(p));
-    let [a, b, c] = tri;
-    let n = (b - a).cross(c - a);
-    let area2 = n.length();
-    if area2 <= DEGENERATE_LENGTH * DEGENERATE_LENGTH {
-        return None;
-    }
-    let reach = (b - a).length().max((c - b).length()).max((a - c).length());
-    let pad = Vector::splat(reach.max(band));
-    let (lo, hi) = bounds(tri);
-    let unit = n / area2;
+    let tip = Tip::new(solid, tri, band)?;
     let vertices = mesh.shape.vertices();
-    let mut best: Option<(TriangleContact, usize)> = None;
-    mesh.for_each_candidate(&Aabb::new(lo - pad, hi + pad), |vi| {
-        let Some(np) = normals[vi] else {
-            return;
-        };
-        let p = vertices[vi];
-        let facing = np.dot(unit);
+    let mut best = None;
+    mesh.for_each_candidate(&tip.query_box(), |vi| {
+        if let Some(np) = normals[vi] {
+            tip.consider(solid, vi, vertices[vi], np, &mut best);
+        }
+    });
+    tip.contact(solid, best)
+}
+
+/// One triangle's tip test, in the mesh's own frame.
+struct Tip {
+    tri: [Vector; 3],
+    /// The triangle's normal, unnormalised, and normalised.
+    n: Vector,
+    unit: Vector,
+    /// The triangle's longest edge (m): how far below it a vertex is looked at.
+    reach: Real,
+    band: Real,
+}
+
+/// The deepest vertex found so far and its index.
+type Deepest = Option<(TriangleContact, usize)>;
+
+impl Tip {
+    /// The test of the world triangle `tri`; `None` when it is degenerate.
+    fn new(solid: &Solid, tri: [Vector; 3], band: Real) -> Option<Tip> {
+        let tri = tri.map(|p| solid.mesh_point(p));
+        let [a, b, c] = tri;
+        let n = (b - a).cross(c - a);
+        let area2 = n.length();
+        if area2 <= DEGENERATE_LENGTH * DEGENERATE_LENGTH {
+            return None;
+        }
+        Some(Tip {
+            tri,
+            n,
+            unit: n / area2,
+            reach: (b - a).length().max((c - b).length()).max((a - c).length()),
+            band,
+        })
+    }
+
+    /// The triangle's box grown by its reach (or the band, if larger).
+    fn query_box(&self) -> Aabb {
+        let pad = Vector::splat(self.reach.max(self.band));
+        let (lo, hi) = bounds(self.tri);
+        Aabb::new(lo - pad, hi + pad)
+    }
+
+    /// Makes vertex `vi` at `p` (unit pseudo-normal `np`) the deepest when it goes through the
+    /// triangle deeper than `best` (or as deep with a smaller index) and nearer than the band.
+    fn consider(&self, solid: &Solid, vi: usize, p: Vector, np: Vector, best: &mut Deepest) {
+        let facing = np.dot(self.unit);
         if facing.abs() <= 1e-9 {
             return;
         }
         // Along the normal line to the plane, then measured across the plane: how far the
         // triangle lies above (positive) or below the vertex.
-        let s = (a - p).dot(unit) / facing;
+        let s = (self.tri[0] - p).dot(self.unit) / facing;
         let distance = s * facing.abs();
         let deeper = best.is_none_or(|(best, bi)| {
             distance < best.distance || (distance == best.distance && vi < bi)
         });
-        if distance >= band || s < -reach || !deeper {
+        if distance >= self.band || s < -self.reach || !deeper {
             return;
         }
         let r = p + np * s;
-        if inside_triangle(r, tri, n) && (s >= 0.0 || solid.depth(solid.world_point(r)) > 0.0) {
+        if inside_triangle(r, self.tri, self.n)
+            && (s >= 0.0 || solid.depth(solid.world_point(r)) > 0.0)
+        {
             let contact = TriangleContact {
                 point: r,
-                normal: unit * facing.signum(),
+                normal: self.unit * facing.signum(),
                 distance,
             };
-            best = Some((contact, vi));
+            *best = Some((contact, vi));
         }
-    });
-    best.map(|(c, _)| TriangleContact {
-        point: solid.world_point(c.point),
-        normal: solid.world_vector(c.normal),
-        ..c
-    })
+    }
+
+    /// The deepest vertex's contact, taken back to the world.
+    fn contact(&self, solid: &Solid, best: Deepest) -> Option<TriangleContact> {
+        best.map(|(c, _)| TriangleContact {
+            point: solid.world_point(c.point),
+            normal: solid.world_vector(c.normal),
+            ..c
+        })
+    }
 }
 
 /// The deepest of the triangle's ten points at barycentric thirds (world, m) whose signed
@@ -301,62 +343,25 @@ mod tests {
         (lo, hi)
     }
 
-    /// The tip test as it was written first: every vertex of every triangle the tree returns,
-    /// its pseudo-normal normalised at each visit; of equal distances the smaller vertex index.
+    /// The tip test's candidates as they were found first: every vertex of every triangle the
+    /// tree returns, its pseudo-normal normalised at each visit.
     fn every_visit(solid: &Solid, tri: [Vector; 3], band: Real) -> Option<TriangleContact> {
         let Geometry::Mesh(mesh) = solid.geometry() else {
             panic!("a mesh obstacle")
         };
         let mesh = &mesh.shape;
         let normals = mesh.pseudo_normals()?;
-        let tri = tri.map(|p| solid.mesh_point(p));
-        let [a, b, c] = tri;
-        let n = (b - a).cross(c - a);
-        let area2 = n.length();
-        if area2 <= DEGENERATE_LENGTH * DEGENERATE_LENGTH {
-            return None;
-        }
-        let reach = (b - a).length().max((c - b).length()).max((a - c).length());
-        let pad = Vector::splat(reach.max(band));
-        let (lo, hi) = bounds(tri);
-        let unit = n / area2;
-        let mut best: Option<(TriangleContact, u32)> = None;
-        for part in mesh.bvh().intersect_aabb(&Aabb::new(lo - pad, hi + pad)) {
+        let tip = Tip::new(solid, tri, band)?;
+        let mut best = None;
+        for part in mesh.bvh().intersect_aabb(&tip.query_box()) {
             for &vi in &mesh.indices()[part as usize] {
-                let p = mesh.vertices()[vi as usize];
-                let Some(np) = normals.vertices_pseudo_normal[vi as usize].try_normalize() else {
-                    continue;
-                };
-                let facing = np.dot(unit);
-                if facing.abs() <= 1e-9 {
-                    continue;
-                }
-                let s = (a - p).dot(unit) / facing;
-                let distance = s * facing.abs();
-                let deeper = best.is_none_or(|(best, bi)| {
-                    distance < best.distance || (distance == best.distance && vi < bi)
-                });
-                if distance >= band || s < -reach || !deeper {
-                    continue;
-                }
-                let r = p + np * s;
-                if inside_triangle(r, tri, n)
-                    && (s >= 0.0 || solid.depth(solid.world_point(r)) > 0.0)
-                {
-                    let contact = TriangleContact {
-                        point: r,
-                        normal: unit * facing.signum(),
-                        distance,
-                    };
-                    best = Some((contact, vi));
+                let vi = vi as usize;
+                if let Some(np) = normals.vertices_pseudo_normal[vi].try_normalize() {
+                    tip.consider(solid, vi, mesh.vertices()[vi], np, &mut best);
                 }
             }
         }
-        best.map(|(c, _)| TriangleContact {
-            point: solid.world_point(c.point),
-            normal: solid.world_vector(c.normal),
-            ..c
-        })
+        tip.contact(solid, best)
     }
 
     proptest! {

@@ -108,29 +108,17 @@ fn fnv1a_known_values() {
     assert_eq!(fnv1a(FNV_OFFSET, b"foobar"), 0x85944171f73967e8);
 }
 
-#[test]
-fn bin_round_trip() {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("reference.bin");
-    let samples = SamplePoints {
-        rest: vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5]],
-        grid: 2,
-        side: 0,
-    };
-    let t = Trajectory {
-        points: 3,
-        grid: 2,
-        side: 0,
-        times: vec![0.0, 0.5],
-        positions: (0..6).map(|i| [i as f32, 0.5, -1.25 * i as f32]).collect(),
-        final_vertices: vec![[1.0, 2.0, 3.0]],
-        adapt: Default::default(),
-    };
-    let header = ReferenceHeader {
+/// A header for the trajectory `t` over `samples` (the other fields fixed test values).
+fn header_of(
+    samples: SamplePoints,
+    t: &Trajectory,
+    settings: ReferenceSettings,
+) -> ReferenceHeader {
+    ReferenceHeader {
         format: CACHE_FORMAT,
         key: "0123456789abcdef".into(),
         scene: "s".into(),
-        settings: ReferenceSettings::default(),
+        settings,
         integrator: "rk4".into(),
         beta: 0.01,
         samples,
@@ -149,7 +137,28 @@ fn bin_round_trip() {
             steps: 6,
         },
         physics: serde_json::json!({"a": 1}),
+    }
+}
+
+#[test]
+fn bin_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("reference.bin");
+    let samples = SamplePoints {
+        rest: vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5]],
+        grid: 2,
+        side: 0,
     };
+    let t = Trajectory {
+        points: 3,
+        grid: 2,
+        side: 0,
+        times: vec![0.0, 0.5],
+        positions: (0..6).map(|i| [i as f32, 0.5, -1.25 * i as f32]).collect(),
+        final_vertices: vec![[1.0, 2.0, 3.0]],
+        adapt: Default::default(),
+    };
+    let header = header_of(samples, &t, ReferenceSettings::default());
     write_bin(&path, &header, &t).unwrap();
     let (h, back) = read_bin(&path).unwrap();
     assert_eq!(h, header);
@@ -179,33 +188,14 @@ fn write_small_entry(path: &Path) -> ReferenceHeader {
         final_vertices: vec![[1.0, 2.0, 3.0]],
         adapt: Default::default(),
     };
-    let header = ReferenceHeader {
-        format: CACHE_FORMAT,
-        key: "0123456789abcdef".into(),
-        scene: "s".into(),
-        settings: ReferenceSettings {
+    let header = header_of(
+        samples,
+        &t,
+        ReferenceSettings {
             samples: 2,
             ..ReferenceSettings::default()
         },
-        integrator: "rk4".into(),
-        beta: 0.01,
-        samples,
-        times: t.times.clone(),
-        final_vertices: 1,
-        steps: 10,
-        wall_s: 1.0,
-        sim_time: 0.5,
-        floor: Floor {
-            resolution: 3,
-            e_rms: 0.1,
-            e_final: 0.2,
-            tracked_err: 0.3,
-            hausdorff: 0.4,
-            wall_s: 0.5,
-            steps: 6,
-        },
-        physics: serde_json::json!({"a": 1}),
-    };
+    );
     write_bin(path, &header, &t).unwrap();
     assert!(read_bin(path).is_ok());
     header
