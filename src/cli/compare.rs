@@ -3,7 +3,7 @@
 use super::args::{
     CompareArgs, DocsArgs, ExecutionArgs, MergeArgs, RefOpts, ReferenceArgs, ReportArgs, StudyArgs,
 };
-use super::{cache_folder, interrupt_flag, output_folder, show_progress, CliError};
+use super::{cache_folder, interrupt_flag, not_in_the_way, output_folder, show_progress, CliError};
 use crate::console::clip;
 use crate::eval::reference::{self, ReferenceSettings};
 use crate::scene::{self, Overrides, Setting};
@@ -381,6 +381,7 @@ fn refused_by(command: &'static str) -> impl Fn(StudyError) -> CliError {
 
 /// `adaptcloth merge`: shard folders into one comparison and its report.
 pub fn merge(args: MergeArgs) -> Result<(), CliError> {
+    not_in_the_way("--out", &args.out)?;
     let comparison = study::merge(&args.dirs, &args.out).map_err(refused_by("merge"))?;
     crate::report::write_report(&args.out, &comparison)?;
     crate::note!(

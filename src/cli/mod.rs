@@ -209,20 +209,7 @@ fn cache_folder(dir: &Path) -> Result<(), CliError> {
 fn writable_folder(option: &str, what: &str, dir: &Path) -> Result<(), CliError> {
     let refuse = |why: String| CliError::Input(format!("{option} {}: {why}", dir.display()));
     std::fs::create_dir_all(dir).map_err(|e| {
-        // Name what is in the way (`dir` itself or one of its parents), not only the OS error.
-        let in_the_way = dir.ancestors().find(|a| a.exists() && !a.is_dir());
-        let kind = |p: &Path| {
-            if p.is_file() {
-                "a file"
-            } else {
-                "a device, pipe or socket"
-            }
-        };
-        let why = match in_the_way {
-            Some(f) if f == dir => format!("it is {}, not a folder", kind(f)),
-            Some(f) => format!("{} is {}, not a folder", f.display(), kind(f)),
-            None => e.to_string(),
-        };
+        let why = in_the_way(dir).unwrap_or_else(|| e.to_string());
         refuse(format!("cannot create the {what}: {why}"))
     })?;
     let probe = dir.join(format!(".adaptcloth-probe-{}", std::process::id()));
@@ -234,6 +221,34 @@ fn writable_folder(option: &str, what: &str, dir: &Path) -> Result<(), CliError>
         .map_err(|e| refuse(format!("cannot write in the {what}: {e}")))?;
     let _ = std::fs::remove_file(&probe);
     Ok(())
+}
+
+/// What keeps `dir` from being a folder: `dir` itself or one of its parents that exists and is
+/// not a folder (a file, device, pipe or socket), said in words; `None` when nothing is.
+fn in_the_way(dir: &Path) -> Option<String> {
+    let f = dir.ancestors().find(|a| a.exists() && !a.is_dir())?;
+    let kind = if f.is_file() {
+        "a file"
+    } else {
+        "a device, pipe or socket"
+    };
+    Some(if f == dir {
+        format!("it is {kind}, not a folder")
+    } else {
+        format!("{} is {kind}, not a folder", f.display())
+    })
+}
+
+/// Refuses an output folder `dir` of `option` that cannot be one ([`in_the_way`]) without
+/// creating anything (a command that checks its inputs first creates it later).
+fn not_in_the_way(option: &str, dir: &Path) -> Result<(), CliError> {
+    match in_the_way(dir) {
+        Some(why) => Err(CliError::Input(format!(
+            "{option} {}: {why}",
+            dir.display()
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// The text of an input file (exit 2 when it cannot be read).

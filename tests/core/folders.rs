@@ -37,6 +37,23 @@ fn merge_lists_missing_runs_and_report_names_itself_on_a_broken_folder() {
     let dir = tempfile::tempdir().unwrap();
     let (shard, cache) = (dir.path().join("s1"), dir.path().join("cache"));
     tiny_shard(&shard, &cache, "1/2");
+    // An `--out` that a file keeps from being a folder is refused, naming the option.
+    let blocker = dir.path().join("afile");
+    std::fs::write(&blocker, "x").unwrap();
+    for out in [blocker.clone(), blocker.join("sub")] {
+        let (code, err) = adaptcloth(&[
+            "merge",
+            shard.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 2, "{err}");
+        assert!(
+            err.contains(&format!("--out {}: ", out.display()))
+                && err.contains("is a file, not a folder"),
+            "{err}"
+        );
+    }
     let merged = dir.path().join("merged");
     let (code, err) = adaptcloth(&[
         "merge",
