@@ -3,7 +3,10 @@
 use super::args::{
     CompareArgs, DocsArgs, ExecutionArgs, MergeArgs, RefOpts, ReferenceArgs, ReportArgs, StudyArgs,
 };
-use super::{cache_folder, interrupt_flag, not_in_the_way, output_folder, show_progress, CliError};
+use super::{
+    cache_folder, interrupt_flag, not_in_the_way, output_folder, show_progress, writable_folder,
+    CliError,
+};
 use crate::console::clip;
 use crate::eval::reference::{self, ReferenceSettings};
 use crate::scene::{self, Overrides, Setting};
@@ -343,8 +346,12 @@ fn run_plans(
 }
 
 /// The `--docs-notes` file's text, read before anything runs (exit 2 naming the option when it
-/// cannot be read).
+/// cannot be read), after checking that `--write-docs`'s folder can be created and written in
+/// (exit 2 before any run, not after an hour of them).
 fn read_notes(docs: &DocsArgs) -> Result<String, CliError> {
+    if let Some(dir) = &docs.write_docs {
+        writable_folder("--write-docs", "docs folder", dir)?;
+    }
     let Some(path) = &docs.docs_notes else {
         return Ok(String::new());
     };

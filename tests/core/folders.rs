@@ -94,8 +94,8 @@ fn merge_lists_missing_runs_and_report_names_itself_on_a_broken_folder() {
     );
 }
 
-/// `--out`, `--cache` and `--docs-notes` that cannot serve: exit 2 naming the option, before
-/// the run's banner.
+/// `--out`, `--cache`, `--write-docs` and `--docs-notes` that cannot serve: exit 2 naming the
+/// option, before the run's banner.
 #[test]
 fn unusable_folders_and_files_are_refused_naming_the_option() {
     let dir = tempfile::tempdir().unwrap();
@@ -104,6 +104,7 @@ fn unusable_folders_and_files_are_refused_naming_the_option() {
     let file = file.to_str().unwrap();
     let notes = dir.path().join("nonexistent.md");
     let notes = notes.to_str().unwrap();
+    let docs = dir.path().join("docs").to_str().unwrap().to_string();
     let cases: Vec<(Vec<&str>, String)> =
         vec![
         (
@@ -129,8 +130,17 @@ fn unusable_folders_and_files_are_refused_naming_the_option() {
             format!("--cache {file}: cannot create the cache folder: it is a file"),
         ),
         (
-            vec!["compare", "--docs-notes", notes, "--write-docs", "wd"],
+            vec!["compare", "--docs-notes", notes, "--write-docs", &docs],
             format!("--docs-notes {notes}: cannot be read: "),
+        ),
+        // Checked before any run, not after them.
+        (
+            vec!["study", "--write-docs", file],
+            format!("--write-docs {file}: cannot create the docs folder: it is a file"),
+        ),
+        (
+            vec!["report", "no-such-folder", "--write-docs", "/dev/null"],
+            "--write-docs /dev/null: cannot create the docs folder: it is a device".into(),
         ),
     ];
     for (args, needle) in cases {
