@@ -62,14 +62,27 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<Comparison, StudyError> {
         }
     }
     manifest.shard = None;
-    for (label, row) in manifest.configs.iter().zip(&rows) {
-        if row.is_none() {
-            manifest.skipped.push(Skipped {
+    // Each configuration without a row once: with the reason a shard gave (an interrupted shard
+    // lists the runs it did not start), else missing.
+    let listed = |label: &str| {
+        parts
+            .iter()
+            .flat_map(|(_, c)| &c.manifest.skipped)
+            .find(|s| s.label == label)
+            .cloned()
+    };
+    manifest.skipped = manifest
+        .configs
+        .iter()
+        .zip(&rows)
+        .filter(|(_, row)| row.is_none())
+        .map(|(label, _)| {
+            listed(label).unwrap_or_else(|| Skipped {
                 label: label.clone(),
                 reason: "missing: no shard ran it".into(),
-            });
-        }
-    }
+            })
+        })
+        .collect();
     let rows = rows.into_iter().flatten().map(|(_, r)| r.clone()).collect();
     Ok(Comparison { manifest, rows })
 }
@@ -164,6 +177,36 @@ mod tests {
         }
         out.sort();
         out
+    }
+
+    /// A run an interrupted shard did not start, and no other shard ran, is listed once, with
+    /// the shard's reason (it was listed twice: the first shard's list, then as missing).
+    #[test]
+    fn a_run_an_interrupted_shard_did_not_start_is_listed_once() {
+        let d = tempfile::tempdir().unwrap();
+        let (p1, p2) = (d.path().join("p1"), d.path().join("p2"));
+        shard(&p1, &["a"]);
+        shard(&p2, &[]);
+        let mut interrupted = read_comparison(&p2).unwrap();
+        interrupted.manifest.skipped = vec![Skipped {
+            label: "b".into(),
+            reason: "not started: the study was interrupted".into(),
+        }];
+        write_tables(&p2, &interrupted).unwrap();
+        let merged = merge(&[p2, p1], &d.path().join("m")).unwrap();
+        let skipped: Vec<(&str, &str)> = merged
+            .manifest
+            .skipped
+            .iter()
+            .map(|s| (s.label.as_str(), s.reason.as_str()))
+            .collect();
+        assert_eq!(
+            skipped,
+            [
+                ("b", "not started: the study was interrupted"),
+                ("c", "missing: no shard ran it")
+            ]
+        );
     }
 
     /// Regression (trial report A4): `--out` equal to, or inside, an input folder rewrote that
