@@ -31,14 +31,22 @@ pub struct RunConfig {
     pub from: String,
 }
 
+/// A run's label from its parts: `base-grid-integrator[suffix]`, made a plain folder name
+/// ([`crate::io::folder_label`]).
+pub(super) fn run_label(base: &str, grid: &str, integrator: &str, suffix: &str) -> String {
+    crate::io::folder_label(&format!("{base}-{grid}-{integrator}{suffix}"))
+}
+
 impl RunConfig {
     /// `base-resolution-integrator[suffix]`, e.g. `static-17-rk4` (also the run's folder name,
     /// so made a plain folder name: [`crate::io::folder_label`]).
     pub fn label(&self) -> String {
-        crate::io::folder_label(&format!(
-            "{}-{}-{}{}",
-            self.base, self.resolution, self.integrator, self.suffix
-        ))
+        run_label(
+            &self.base,
+            &self.resolution.to_string(),
+            &self.integrator,
+            &self.suffix,
+        )
     }
 
     /// The scene of this configuration: `base` with its grid, strategy, integrator and own

@@ -29,7 +29,7 @@
 //! Sweeping `cloth.resolution` (or `resolution`) sets the start grid. Every error names the file,
 //! the line and what was expected.
 
-use super::config::RunConfig;
+use super::config::{run_label, RunConfig};
 use super::StudyError;
 use crate::eval::reference::ReferenceSettings;
 use crate::physics::integrator_named;
@@ -597,7 +597,7 @@ fn label_of(t: &RunTemplate) -> String {
         .resolution
         .map_or("<scene's grid>".to_string(), |r| r.to_string());
     let integrator = t.integrator.as_deref().unwrap_or("<scene's integrator>");
-    crate::io::folder_label(&format!("{}-{grid}-{integrator}{}", t.base, t.suffix))
+    run_label(&t.base, &grid, integrator, &t.suffix)
 }
 
 /// Fails when a sweep of `run` (the `[[runs]]` entry `index`, expanded to `runs`) lists a value
