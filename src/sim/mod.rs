@@ -2,6 +2,7 @@
 //! collide, adapt (every `adaptivity.interval` of simulated time); each stage is timed. Recording
 //! and the run driver are in [`run`].
 
+mod frames;
 mod run;
 mod sample;
 mod self_pass;

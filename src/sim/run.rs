@@ -2,12 +2,14 @@
 //! progress, and stops cleanly on divergence, adaptation failure, a non-conforming frame or an
 //! interrupt, with everything recorded so far on disk and a summary saying why it stopped.
 
+use super::frames::{Frame, FrameWrites};
 use super::sample::{SamplePoints, Sampler, Trajectory};
 use super::{Simulation, StageTimes, StepError};
 use crate::io::{frame_path, is_frame_name, temp_path, write_atomic, MetricsRow, MetricsWriter};
 use crate::math::Real;
 use crate::math::Vec3;
 use crate::mesh::Mesh;
+use crate::parallel::pool_can_help;
 use crate::scene::LinearSolver;
 use indicatif::{MultiProgress, ProgressBar, ProgressDrawTarget, ProgressStyle};
 use serde::Serialize;
@@ -191,117 +193,132 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
     let (mut status, mut message) = (RunStatus::Completed, String::new());
     let mut last_flush = Instant::now();
     // A failed write ends the run as `failed`; a failed metrics write also drops the table
-    // (left as `.partial`: it may be torn).
-    loop {
-        let clock = Instant::now();
-        let due_frame = sim.t >= frames as Real * frame_period - 1e-9 * frame_period;
-        let done = sim.finished();
-        if due_frame || done || sim.t >= next_metrics || last.adapt.events > 0 {
-            // The crossing measure costs as much as a step on small meshes: it is taken on the
-            // states written as frames (and the last one), where anyone can take it again.
-            let row = metrics_row(sim, &last, due_frame || done);
-            max_penetration = max_penetration.max(row.max_penetration);
-            max_surface_penetration = max_surface_penetration.max(row.max_surface_penetration);
-            if let Some(crossings) = row.self_intersections {
-                max_self_intersections = max_self_intersections.max(crossings);
-            }
-            if let Some(Err(e)) = metrics.as_mut().map(|m| m.row(&row)) {
-                (status, message) = write_failure(sim, &metrics_path, e);
-                metrics = None;
-            }
-            while next_metrics <= sim.t {
-                let next = next_metrics + metrics_period;
-                if next == next_metrics {
-                    // The period is below the time's resolution: never loop on it.
-                    next_metrics = sim.t + metrics_period.max(Real::EPSILON * sim.t.abs());
-                    break;
+    // (left as `.partial`: it may be torn). Frames are written on another thread of the pool
+    // when it has one (`frames`); the scope ends when the last of them is written.
+    let writes = FrameWrites::default();
+    rayon::in_place_scope(|scope| {
+        let sink = writes.sink(pool_can_help().then_some(scope));
+        loop {
+            let clock = Instant::now();
+            let due_frame = sim.t >= frames as Real * frame_period - 1e-9 * frame_period;
+            let done = sim.finished();
+            if due_frame || done || sim.t >= next_metrics || last.adapt.events > 0 {
+                // The crossing measure costs as much as a step on small meshes: it is taken on the
+                // states written as frames (and the last one), where anyone can take it again.
+                let row = metrics_row(sim, &last, due_frame || done);
+                max_penetration = max_penetration.max(row.max_penetration);
+                max_surface_penetration = max_surface_penetration.max(row.max_surface_penetration);
+                if let Some(crossings) = row.self_intersections {
+                    max_self_intersections = max_self_intersections.max(crossings);
                 }
-                next_metrics = next;
+                if let Some(Err(e)) = metrics.as_mut().map(|m| m.row(&row)) {
+                    (status, message) = write_failure(sim, &metrics_path, e);
+                    metrics = None;
+                }
+                while next_metrics <= sim.t {
+                    let next = next_metrics + metrics_period;
+                    if next == next_metrics {
+                        // The period is below the time's resolution: never loop on it.
+                        next_metrics = sim.t + metrics_period.max(Real::EPSILON * sim.t.abs());
+                        break;
+                    }
+                    next_metrics = next;
+                }
             }
-        }
-        if due_frame && status == RunStatus::Completed {
-            let version = sim.cloth.mesh.version();
-            if conforming_version != Some(version) {
-                match sim.cloth.mesh.check() {
-                    Ok(()) => conforming_version = Some(version),
-                    Err(e) => {
-                        status = RunStatus::Failed;
-                        message = format!(
+            if due_frame && status == RunStatus::Completed {
+                let version = sim.cloth.mesh.version();
+                if conforming_version != Some(version) {
+                    match sim.cloth.mesh.check() {
+                        Ok(()) => conforming_version = Some(version),
+                        Err(e) => {
+                            status = RunStatus::Failed;
+                            message = format!(
                             "frame {frames} at step {}, t = {:.6} s breaks a conformity rule: {e}",
                             sim.steps, sim.t
                         );
+                        }
                     }
                 }
-            }
-            let path = frame_path(&opts.out_dir, frames);
-            match write_mesh_frame(&path, &sim.cloth.mesh, &sim.cloth.x, sim.t) {
-                Ok(()) => {
-                    if let Some(s) = sampler.as_mut() {
-                        s.record(&sim.cloth, sim.t);
-                    }
-                    frames += 1;
-                }
-                Err(e) => (status, message) = write_failure(sim, &path, e),
-            }
-        }
-        if last_flush.elapsed() > Duration::from_secs(2) {
-            if let Some(Err(e)) = metrics.as_mut().map(MetricsWriter::flush) {
-                (status, message) = write_failure(sim, &metrics_path, e);
-                metrics = None;
-            }
-            last_flush = Instant::now();
-        }
-        sim.stage_times.record_s += clock.elapsed().as_secs_f64();
-        if done || status != RunStatus::Completed {
-            break;
-        }
-        if opts
-            .interrupt
-            .as_ref()
-            .is_some_and(|f| f.load(Ordering::Relaxed))
-        {
-            status = RunStatus::Interrupted;
-            message = format!("interrupted at step {}, t = {:.6} s", sim.steps, sim.t);
-            break;
-        }
-        let stepped = sim.step();
-        // A failed adaptation pass leaves its mesh (past `max_vertices`): counted too.
-        max_vertices = max_vertices.max(sim.cloth.mesh.vertex_count());
-        match stepped {
-            Ok(report) => {
+                let path = frame_path(&opts.out_dir, frames);
+                sink.submit(Frame::capture(path, &sim.cloth.mesh, &sim.cloth.x, sim.t));
                 if let Some(s) = sampler.as_mut() {
-                    s.observe_adaptation(&report.adapt);
+                    s.record(&sim.cloth, sim.t);
                 }
-                if report.integrator.unconverged && sim.solves.unconverged == 1 {
-                    bar.suspend(|| warn_unconverged(sim, &report.integrator, &opts.out_dir));
-                }
-                last = report
+                frames += 1;
             }
-            Err(e) => {
-                status = match e {
-                    StepError::Diverged { .. } => RunStatus::Diverged,
-                    StepError::Adapt { .. } | StepError::Unconverged { .. } => RunStatus::Failed,
-                };
-                message = e.to_string();
-                let row = metrics_row(sim, &last, true);
-                if let Some(Err(e)) = metrics.as_mut().map(|m| m.row(&row)) {
-                    let (failed, why) = write_failure(sim, &metrics_path, e);
-                    (status, message) = (failed, format!("{message}; then {why}"));
+            if let Some((path, e)) = writes.failure() {
+                (status, message) = write_failure(sim, &path, e);
+            }
+            if last_flush.elapsed() > Duration::from_secs(2) {
+                if let Some(Err(e)) = metrics.as_mut().map(MetricsWriter::flush) {
+                    (status, message) = write_failure(sim, &metrics_path, e);
                     metrics = None;
                 }
+                last_flush = Instant::now();
+            }
+            sim.stage_times.record_s += clock.elapsed().as_secs_f64();
+            if done || status != RunStatus::Completed {
                 break;
             }
+            if opts
+                .interrupt
+                .as_ref()
+                .is_some_and(|f| f.load(Ordering::Relaxed))
+            {
+                status = RunStatus::Interrupted;
+                message = format!("interrupted at step {}, t = {:.6} s", sim.steps, sim.t);
+                break;
+            }
+            let stepped = sim.step();
+            // A failed adaptation pass leaves its mesh (past `max_vertices`): counted too.
+            max_vertices = max_vertices.max(sim.cloth.mesh.vertex_count());
+            match stepped {
+                Ok(report) => {
+                    if let Some(s) = sampler.as_mut() {
+                        s.observe_adaptation(&report.adapt);
+                    }
+                    if report.integrator.unconverged && sim.solves.unconverged == 1 {
+                        bar.suspend(|| warn_unconverged(sim, &report.integrator, &opts.out_dir));
+                    }
+                    last = report
+                }
+                Err(e) => {
+                    status = match e {
+                        StepError::Diverged { .. } => RunStatus::Diverged,
+                        StepError::Adapt { .. } | StepError::Unconverged { .. } => {
+                            RunStatus::Failed
+                        }
+                    };
+                    message = e.to_string();
+                    let row = metrics_row(sim, &last, true);
+                    if let Some(Err(e)) = metrics.as_mut().map(|m| m.row(&row)) {
+                        let (failed, why) = write_failure(sim, &metrics_path, e);
+                        (status, message) = (failed, format!("{message}; then {why}"));
+                        metrics = None;
+                    }
+                    break;
+                }
+            }
+            if sim.steps % 64 == 0 {
+                bar.set_position((sim.t * 1e3) as u64);
+                bar.set_message(format!(
+                    "{} steps, {} vertices, dt {:.2e} s",
+                    sim.steps,
+                    sim.cloth.mesh.vertex_count(),
+                    last.dt
+                ));
+            }
         }
-        if sim.steps % 64 == 0 {
-            bar.set_position((sim.t * 1e3) as u64);
-            bar.set_message(format!(
-                "{} steps, {} vertices, dt {:.2e} s",
-                sim.steps,
-                sim.cloth.mesh.vertex_count(),
-                last.dt
-            ));
-        }
+    });
+    // A frame written after the loop's last look may still have failed.
+    if let Some((path, e)) = writes.failure() {
+        let (failed, why) = write_failure(sim, &path, e);
+        (status, message) = match status {
+            RunStatus::Completed => (failed, why),
+            _ => (status, format!("{message}; then {why}")),
+        };
     }
+    let frames = writes.written();
     bar.finish_and_clear();
     if let Some(Err(e)) = metrics.map(MetricsWriter::finish) {
         (status, message) = write_failure(sim, &metrics_path, e);
@@ -483,18 +500,5 @@ pub fn labelled_bar(multi: &MultiProgress, label: &str) -> ProgressBar {
 /// Writes one frame of `mesh` at world positions `x` (indexed by slot) through
 /// [`crate::io::write_frame`]: live vertices renumbered in slot order.
 pub fn write_mesh_frame(path: &Path, mesh: &Mesh, x: &[Vec3], time: f64) -> std::io::Result<()> {
-    let mut number = vec![0usize; mesh.vertex_slots()];
-    let (mut positions, mut rest) = (Vec::new(), Vec::new());
-    for (k, v) in mesh.vertices().enumerate() {
-        number[v.0 as usize] = k;
-        let p = x[v.0 as usize];
-        positions.push([p.x, p.y, p.z]);
-        let r = mesh.rest(v);
-        rest.push([r.x, r.y]);
-    }
-    let triangles: Vec<[usize; 3]> = mesh
-        .faces()
-        .map(|f| mesh.face(f).map(|v| number[v.0 as usize]))
-        .collect();
-    crate::io::write_frame(path, time, &positions, &rest, &triangles)
+    Frame::capture(path.to_path_buf(), mesh, x, time).write()
 }

@@ -168,27 +168,32 @@ fn a_run_removes_only_its_own_files_from_a_reused_folder() {
 
 /// A write that fails during the run (here a folder stands where frame 1 goes) ends the run with
 /// status `failed` naming the file, exit 1, the summary and the complete metrics on disk, and no
-/// temporary file left behind.
+/// temporary file left behind; alike when the frames are written on the loop's thread (one
+/// thread) and on another (two).
 #[test]
 fn a_failed_write_fails_the_run_with_a_clear_message() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("o");
-    std::fs::create_dir_all(out.join("frames/frame_00001.obj")).unwrap();
-    let (code, err) = adaptcloth(&[
-        "run",
-        "--duration",
-        "0.05",
-        "--out",
-        out.to_str().unwrap(),
-        "--quiet",
-    ]);
-    assert_eq!(code, 1, "{err}");
-    assert!(err.contains("frame_00001.obj failed at step"), "{err}");
-    let summary = summary_of(&out);
-    assert!(summary.contains("\"status\": \"failed\""), "{summary}");
-    assert!(summary.contains("\"frames\": 1,"), "{summary}");
-    assert!(out.join("metrics.csv").is_file());
-    assert!(!out.join("frames/frame_00001.obj.tmp").exists());
+    for threads in ["1", "2"] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("o");
+        std::fs::create_dir_all(out.join("frames/frame_00001.obj")).unwrap();
+        let (code, err) = adaptcloth(&[
+            "--threads",
+            threads,
+            "run",
+            "--duration",
+            "0.05",
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ]);
+        assert_eq!(code, 1, "{threads} threads: {err}");
+        assert!(err.contains("frame_00001.obj failed at step"), "{err}");
+        let summary = summary_of(&out);
+        assert!(summary.contains("\"status\": \"failed\""), "{summary}");
+        assert!(summary.contains("\"frames\": 1,"), "{summary}");
+        assert!(out.join("metrics.csv").is_file());
+        assert!(!out.join("frames/frame_00001.obj.tmp").exists());
+    }
 }
 
 /// A full disk under the metrics table (its file is `/dev/full`): the run fails with the table's
