@@ -304,6 +304,7 @@ fn run_plans(
         loaded,
         configs,
         out,
+        notes,
     } in plans
     {
         let clock = std::time::Instant::now();
@@ -316,6 +317,9 @@ fn run_plans(
             clip(&loaded.source),
             clip(&out.to_string_lossy())
         );
+        for note in &notes {
+            crate::note!("{note}");
+        }
         let opts = CompareOptions {
             configs,
             jobs: e.jobs,

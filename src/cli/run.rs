@@ -58,6 +58,9 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
         loaded.scene.time.duration,
         clip(&out_dir.to_string_lossy())
     );
+    if let Some(note) = simulation.dynamic_step_note() {
+        crate::note!("{note}");
+    }
     let s = sim::run(&mut simulation, &opts)
         .map_err(|e| CliError::Failed(format!("writing outputs to {}: {e}", out_dir.display())))?;
     crate::note!(

@@ -300,6 +300,23 @@ impl Simulation {
         (self.scene.time.duration / dt, dt, cap)
     }
 
+    /// For an integrator stable at any step (`implicit_euler`, `bdf2`) on the scene's dynamic
+    /// step, which the explicit limit sets (`time.mode = "dynamic"`): a note saying so, with the
+    /// smallest step expected (s) and how to take large steps; `None` otherwise.
+    pub fn dynamic_step_note(&self) -> Option<String> {
+        if self.scene.time.mode != TimeMode::Dynamic || self.integrator.stability_limit().is_some()
+        {
+            return None;
+        }
+        let (_, dt, _) = self.step_estimate();
+        Some(format!(
+            "note: {} takes the scene's dynamic step (time.mode = \"dynamic\", set by the \
+             explicit integrators' stability: down to {dt:.2e} s here); for its large steps fix \
+             the step: --set time.mode=fixed --set time.dt=0.002 (in a study: dt = 0.002)",
+            self.integrator.name()
+        ))
+    }
+
     /// Refines the stability limit for this step (dynamic steps of explicit integrators only):
     /// [`ITERATIONS_AFTER_EDIT`] power iterations after a mesh change, one every
     /// [`STEPS_PER_ITERATION`] steps otherwise, warm-started.

@@ -17,6 +17,9 @@ pub struct ScenePlan {
     pub configs: Vec<RunConfig>,
     /// The comparison's output folder.
     pub out: PathBuf,
+    /// What to tell the user before the runs (runs of an integrator stable at any step on the
+    /// scene's dynamic step: [`Simulation::dynamic_step_note`]).
+    pub notes: Vec<String>,
 }
 
 /// Loads every scene of `study`, builds its configurations and checks every run's scene, that
@@ -53,11 +56,19 @@ pub fn plan(
             )));
         }
         let configs = configs_for(&study.runs, &loaded)?;
-        if !force {
-            for c in &configs {
-                check_steps(&loaded, c)?;
+        let mut small_steps = Vec::new();
+        for c in &configs {
+            let Ok(simulation) = Simulation::new(&c.scene(&loaded)?) else {
+                continue; // it fails on its own, as a row of the comparison
+            };
+            if !force {
+                check_steps(&simulation, c)?;
+            }
+            if simulation.dynamic_step_note().is_some() {
+                small_steps.push(c.label());
             }
         }
+        let notes = dynamic_step_notes(&small_steps);
         // A folder named after the scene (not the one `--out` names whatever the scene).
         let unnamed = out("");
         if let Some(folder) = dir.file_name().filter(|f| Some(*f) != unnamed.file_name()) {
@@ -67,17 +78,15 @@ pub fn plan(
             loaded,
             configs,
             out: dir,
+            notes,
         });
     }
     Ok(plans)
 }
 
-/// Fails when the run of `config` on `base` is estimated at more steps than a run may take. A
-/// run that cannot be set up passes: it fails on its own, as a row of the comparison.
-fn check_steps(base: &LoadedScene, config: &RunConfig) -> Result<(), StudyError> {
-    let Ok(simulation) = Simulation::new(&config.scene(base)?) else {
-        return Ok(());
-    };
+/// Fails when the run of `config` (set up as `simulation`) is estimated at more steps than a
+/// run may take.
+fn check_steps(simulation: &Simulation, config: &RunConfig) -> Result<(), StudyError> {
     simulation.check_step_estimate().map_err(|e| {
         StudyError::Config(format!(
             "run {}: {e}; {}",
@@ -85,4 +94,19 @@ fn check_steps(base: &LoadedScene, config: &RunConfig) -> Result<(), StudyError>
             crate::sim::FORCE_HINT
         ))
     })
+}
+
+/// One note naming the runs (by label) of an integrator stable at any step that take their
+/// scene's dynamic step; none when there are none.
+fn dynamic_step_notes(labels: &[String]) -> Vec<String> {
+    if labels.is_empty() {
+        return Vec::new();
+    }
+    vec![format!(
+        "note: {} run(s) of an integrator stable at any step take the scene's dynamic step \
+         (time.mode = \"dynamic\", set by the explicit integrators' stability): {}; give such a \
+         run its own step for large steps (dt = 0.002)",
+        labels.len(),
+        crate::console::clip(&labels.join(", "))
+    )]
 }

@@ -702,3 +702,60 @@ fn stability_quick_writes_outside_docs_and_its_exit_status_says_whether_a_case_f
         "{failed} failed, exit {code}"
     );
 }
+
+/// An integrator stable at any step on its scene's dynamic step (set by the explicit
+/// integrators' stability) is told so, with how to fix the step, by `run` and by a study (naming
+/// the run); nothing is said on a fixed step or for an explicit integrator.
+#[test]
+fn implicit_runs_on_the_dynamic_step_are_told_how_to_take_large_steps() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let out = out.to_str().unwrap();
+    let note = "takes the scene's dynamic step";
+    let run = |extra: &[&str]| {
+        let mut args = vec!["run", "--quiet", "--duration", "0.01", "--out", out];
+        args.extend_from_slice(extra);
+        let (code, err) = adaptcloth(&args);
+        assert_eq!(code, 0, "{err}");
+        err
+    };
+    let err = run(&["--integrator", "implicit_euler"]);
+    assert!(
+        err.contains(note) && err.contains("--set time.mode=fixed"),
+        "{err}"
+    );
+    assert!(run(&["--integrator", "bdf2"]).contains(note));
+    let fixed = ["--set", "time.mode=fixed", "--set", "time.dt=0.002"];
+    let err = run(&[&["--integrator", "implicit_euler"][..], &fixed[..]].concat());
+    assert!(!err.contains(note), "{err}");
+    let err = run(&["--integrator", "rk4"]);
+    assert!(!err.contains(note), "{err}");
+
+    let study = dir.path().join("s.toml");
+    std::fs::write(
+        &study,
+        "name = \"s\"\ndescription = \"d\"\nscenes = [\"sphere\"]\nduration = 0.01\n\
+         [reference]\nresolution = 9\nfloor = 5\n\
+         [[runs]]\nstrategy = \"static\"\nintegrator = \"implicit_euler\"\nresolution = 5\n\
+         [[runs]]\nlabel = \"fixed\"\nstrategy = \"static\"\nintegrator = \"implicit_euler\"\n\
+         resolution = 5\ndt = 0.002\n",
+    )
+    .unwrap();
+    let cache = dir.path().join("cache");
+    let (code, err) = adaptcloth(&[
+        "study",
+        study.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        dir.path().join("study").to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let line = err
+        .lines()
+        .find(|l| l.contains("take the scene's dynamic step"))
+        .expect("a note");
+    assert!(line.contains("static-5-implicit_euler"), "{line}");
+    assert!(!line.contains("fixed-5"), "{line}");
+}
