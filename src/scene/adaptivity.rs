@@ -53,24 +53,34 @@ pub(super) fn strategy_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), Sc
     Ok(())
 }
 
-/// Fails when the criteria are the sizing field's while the strategy never edits the mesh
-/// (`static` reads no criteria).
+/// Fails when the criteria are the sizing field's, or `h_min` (the shortest edge an adaptive
+/// strategy may create) is set, while the strategy never edits the mesh (`static` reads no
+/// criteria and creates no edge).
 pub(super) fn criteria_need_adaptivity(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
     let adapts = crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh);
-    if a.criteria != CriteriaSpec::Sizing || adapts {
+    let asked = if adapts {
+        None
+    } else if a.criteria == CriteriaSpec::Sizing {
+        Some(("criteria", "\"sizing\"".to_string(), "the sizing field"))
+    } else if a.h_min != AdaptivitySpec::default().h_min {
+        Some(("h_min", a.h_min.to_string(), "a refinement floor"))
+    } else {
+        None
+    };
+    let Some((key, value, what)) = asked else {
         return Ok(());
-    }
+    };
     let adaptive: Vec<&str> = crate::strategies::STRATEGIES
         .iter()
         .filter(|s| s.edits_mesh)
         .map(|s| s.name)
         .collect();
     Err(c.fail(
-        "adaptivity.criteria",
-        "\"sizing\"",
+        &format!("adaptivity.{key}"),
+        value,
         &format!(
-            "strategy `{}` never adapts the mesh and reads no criteria; the sizing field needs \
-             an adaptive strategy ({})",
+            "strategy `{}` never adapts the mesh and reads no criteria; {what} needs an adaptive \
+             strategy ({}; a static grid's size is cloth.resolution)",
             a.strategy,
             adaptive.join(", ")
         ),

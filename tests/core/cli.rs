@@ -133,6 +133,11 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", "--set", "adaptivity.criteria=\"sizing\""],
             "strategy `static` never adapts the mesh",
         ),
+        // A refinement floor on a run that never refines: its grid is cloth.resolution.
+        (
+            vec!["run", "--set", "adaptivity.h_min=0.03"],
+            "a refinement floor needs an adaptive strategy",
+        ),
         // Values that passed validation and panicked later (issue 15, defect 1).
         (vec!["run", "--set", "cloth.size=[1.0, nan]"], "cloth.size"),
         (vec!["run", "--set", "cloth.size=[1.0, inf]"], "cloth.size"),
