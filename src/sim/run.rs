@@ -46,18 +46,22 @@ pub fn this_command() -> String {
     std::env::args().collect::<Vec<_>>().join(" ")
 }
 
-/// `adaptcloth run SCENE --out OUT` on the `scene.resolved.toml` the run writes (absolute
-/// paths, so it works from any folder; the copy goes beside the original, `-rerun` added); empty
+/// `BINARY run SCENE --out OUT` on the `scene.resolved.toml` the run writes, `BINARY` the
+/// running program (absolute paths, so the line works as it is from any folder; `adaptcloth`
+/// when the program's path is unknown; the copy goes beside the original, `-rerun` added); empty
 /// when the run writes none.
 fn rerun_command(opts: &RunOptions) -> String {
     if opts.resolved_scene.is_none() {
         return String::new();
     }
+    let program = std::env::current_exe()
+        .map(|p| shell_word(&p))
+        .unwrap_or_else(|_| "adaptcloth".to_string());
     let out = std::path::absolute(&opts.out_dir).unwrap_or_else(|_| opts.out_dir.clone());
     let mut again = out.clone().into_os_string();
     again.push("-rerun");
     format!(
-        "adaptcloth run {} --out {}",
+        "{program} run {} --out {}",
         shell_word(&out.join("scene.resolved.toml")),
         shell_word(Path::new(&again))
     )

@@ -342,15 +342,20 @@ fn a_runs_rerun_line_reproduces_it_from_anywhere() {
         dir.path().canonicalize().unwrap()
     );
     let rerun = summary["rerun"].as_str().unwrap();
-    let rest = rerun
-        .strip_prefix("adaptcloth ")
-        .expect("an adaptcloth command");
-    // Run it from another folder, through a shell (the line is a shell command).
+    let program = std::path::Path::new(env!("CARGO_BIN_EXE_adaptcloth"));
+    let (plain, quoted) = (
+        format!("{} run ", program.display()),
+        format!("'{}' run ", program.display()),
+    );
+    assert!(
+        rerun.starts_with(&plain) || rerun.starts_with(&quoted),
+        "the line names the program that ran: {rerun}"
+    );
+    // Run it as it is from another folder, through a shell (the line is a shell command).
     let elsewhere = tempfile::tempdir().unwrap();
     let status = Command::new("sh")
         .arg("-c")
-        .arg(format!("\"$0\" {rest} --quiet"))
-        .arg(env!("CARGO_BIN_EXE_adaptcloth"))
+        .arg(format!("{rerun} --quiet"))
         .current_dir(elsewhere.path())
         .status()
         .expect("sh runs");
