@@ -451,14 +451,30 @@ pub fn ensure_reference(
     let reference_scene = static_variant(base, settings.resolution, settings);
     let floor_scene = static_variant(base, settings.floor_resolution, settings);
     // A reference that could never finish is refused whatever the runs' `--force` says.
-    for (what, scene) in [("reference", &reference_scene), ("floor", &floor_scene)] {
-        Simulation::new(scene)?.check_step_estimate().map_err(|e| {
+    let mut steps = [0.0; 2];
+    for (k, (what, scene)) in [("reference", &reference_scene), ("floor", &floor_scene)]
+        .into_iter()
+        .enumerate()
+    {
+        let simulation = Simulation::new(scene)?;
+        simulation.check_step_estimate().map_err(|e| {
             ReferenceError::Settings(format!(
                 "the {what} run of {} (not covered by --force): {e}",
                 base.source
             ))
         })?;
+        steps[k] = simulation.step_estimate().0;
     }
+    crate::note!(
+        "reference {}: not cached; computing static {n}x{n} (about {:.0} steps) and its \
+         floor {m}x{m} (about {:.0}), once: then cached in {}",
+        crate::console::clip(&base.scene.name),
+        steps[0],
+        steps[1],
+        crate::console::clip(&dir.display().to_string()),
+        n = settings.resolution,
+        m = settings.floor_resolution,
+    );
     let samples = Arc::new(sample_points(&reference_scene, settings.samples)?);
     std::fs::create_dir_all(&dir).map_err(io_err(&dir))?;
     let bar = |label: &str| progress.map(|m| crate::sim::labelled_bar(m, label));

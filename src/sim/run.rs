@@ -498,6 +498,7 @@ pub fn labelled_bar(multi: &MultiProgress, label: &str) -> ProgressBar {
         bar.set_style(style.progress_chars("=> "));
     }
     bar.set_prefix(label.to_string());
+    bar.set_message("starting");
     bar
 }
 

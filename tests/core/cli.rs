@@ -764,3 +764,43 @@ fn implicit_runs_on_the_dynamic_step_are_told_how_to_take_large_steps() {
     assert!(line.contains("static-5-implicit_euler"), "{line}");
     assert!(!line.contains("fixed-5"), "{line}");
 }
+
+/// A reference not in the cache is announced, with its grids and step counts, before it is
+/// computed; once cached, it is not.
+#[test]
+fn a_reference_to_compute_is_announced_before_it_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("s.toml");
+    std::fs::write(
+        &study,
+        "name = \"s\"\ndescription = \"d\"\nscenes = [\"sphere\"]\nduration = 0.01\n\
+         [reference]\nresolution = 9\nfloor = 5\n\
+         [[runs]]\nstrategy = \"static\"\nresolution = 5\n",
+    )
+    .unwrap();
+    let cache = dir.path().join("cache");
+    let out = dir.path().join("out");
+    let args = [
+        "study",
+        study.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+    ];
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 0, "{err}");
+    let announced = err
+        .lines()
+        .position(|l| l.contains("not cached; computing static 9x9") && l.contains("floor 5x5"))
+        .expect("the reference announced");
+    let done = err
+        .lines()
+        .position(|l| l.starts_with("reference sphere: static 9x9"))
+        .expect("the reference reported");
+    assert!(announced < done, "{err}");
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("not cached"), "{err}");
+}
