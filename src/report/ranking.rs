@@ -73,6 +73,14 @@ pub fn ranking(c: &Comparison) -> String {
                 fmt_e(r.e_rms),
             );
         }
+        if !rows.is_empty() && rows.iter().all(|(r, _, _)| r.e_rms < 2.0 * floor) {
+            let _ = writeln!(
+                s,
+                "  none of these runs is resolved: every error is within 2x of the reference's \
+                 floor, so this reference cannot rank them; a finer one can ([reference] \
+                 resolution, 65 by default)"
+            );
+        }
         if let Some(k) = statics {
             let mut by_grid = k.rows.clone();
             by_grid.sort_by_key(|r| r.resolution);
@@ -127,5 +135,24 @@ mod tests {
         assert!(lines[4].starts_with("  static baseline: 9x9"), "{text}");
         assert!(lines[5].contains("upper bound"), "{text}");
         assert_eq!(lines.len(), 6, "{text}");
+        assert!(!text.contains("none of these runs is resolved"), "{text}");
+    }
+
+    /// When every adaptive run is within 2x of the reference's floor, the table says the
+    /// reference cannot rank them.
+    #[test]
+    fn a_ranking_of_unresolved_runs_says_so() {
+        let rows = [
+            run("static", "static", 9, 1.0, 4e-2),
+            run("static", "static", 17, 10.0, 2e-2),
+            run("bisect48", "bisect48", 5, 2.0, 2e-2),
+            run("remesh", "remesh", 5, 20.0, 1.5e-2),
+        ];
+        let mut c = comparison(&rows);
+        c.manifest.reference.floor.e_rms = 1.5e-2;
+        let text = ranking(&c);
+        assert!(text.contains("none of these runs is resolved"), "{text}");
+        c.manifest.reference.floor.e_rms = 0.9e-2; // bisect48 at 2e-2 is now resolved
+        assert!(!ranking(&c).contains("none of these runs is resolved"));
     }
 }
