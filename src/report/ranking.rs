@@ -99,7 +99,8 @@ pub fn ranking(c: &Comparison) -> String {
         "  speed-up: the static mesh's time for the run's e_rms (interpolated between static \
          grids) over the run's time; \"<=\": less accurate than the fastest static run, an upper \
          bound. Not resolved: e_rms within 2x of the reference's floor ({} m). Sub-second wall \
-         times vary by tens of percent between runs.",
+         times vary by tens of percent between runs and with the runs beside them (--jobs 1 \
+         gives the steadiest).",
         fmt_e(floor)
     );
     s
