@@ -64,8 +64,9 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
     let s = sim::run(&mut simulation, &opts)
         .map_err(|e| CliError::Failed(format!("writing outputs to {}: {e}", out_dir.display())))?;
     crate::note!(
-        "{:?}: {} steps, t = {:.4} s, {} frames, {} vertices (max {}), max penetration {:.2e} m (surface {:.2e} m), {} self-intersections, wall {:.2} s",
-        s.status, s.steps, s.sim_time, s.frames, s.final_vertices, s.max_vertices,
+        "{:?}: {} steps, t = {:.4} s, {} frame{}, {} vertices (max {}), max penetration {:.2e} m (surface {:.2e} m), {} self-intersections, wall {:.2} s",
+        s.status, s.steps, s.sim_time, s.frames, if s.frames == 1 { "" } else { "s" },
+        s.final_vertices, s.max_vertices,
         s.max_penetration, s.max_surface_penetration, s.max_self_intersections, s.wall_time_s
     );
     match s.status {
