@@ -185,7 +185,9 @@ mod tests {
         });
         assert_eq!((inline.written(), pooled.written()), (20, 20));
         assert!(inline.failure().is_none());
-        let (path, _) = pooled.failure().expect("the write into a missing folder fails");
+        let (path, _) = pooled
+            .failure()
+            .expect("the write into a missing folder fails");
         assert!(path.ends_with("no such folder/frame.obj"), "{path:?}");
         assert!(pooled.failure().is_none(), "a failure is reported once");
         for k in 0..20 {
