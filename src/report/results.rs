@@ -42,15 +42,8 @@ pub fn write_docs(
     );
     let _ = writeln!(
         md,
-        "## Summary: speed-up over the static mesh at equal error\n\n\
-         Per scene and integrator, each strategy is a curve through its configurations. At the \
-         error of static 17x17 and of static 33x33 (e_rms and Hausdorff alike), the speed-up is \
-         the static curve's wall time for that error (its cheapest grid that gets there, so a \
-         coarser grid as accurate as the target sets it) over the time the strategy's curve \
-         needs for the same error (log-log interpolation along both curves' Pareto fronts; `>=` \
-         when the strategy's fastest run is already below). Above 1 the strategy buys more \
-         accuracy per second than the static mesh. \
-         Details, profiles and plots per scene below.\n\n{}",
+        "## Summary: speed-up over the static mesh at equal error\n\n{}\n\
+         Details, profiles and plots per scene below.\n",
         summary(items.iter().map(|(_, c)| c))
     );
     let _ = writeln!(md, "{notes}\n");
