@@ -52,9 +52,11 @@ pub fn write_docs(
         "How to read: `e(t)` is the RMS distance between the run's and the reference's world \
          positions of the same material points at the same time; `e_rms` its RMS over the output \
          frames; the Hausdorff distance compares the final surfaces regardless of where each \
-         material point went (fold-pattern-insensitive). The speed-error plot is log-log; the \
-         black line is the Pareto front (runs no other run beats in both time and error); the \
-         dashed line is the reference's error floor, below which differences are not resolved.\n"
+         material point went (fold-pattern-insensitive). The speed-error plot is log-log, one \
+         panel per integrator; the thin black staircase in each panel is the Pareto front of \
+         its runs, all strategies together (the runs no other run beats in both time and \
+         error); the dashed line is the reference's error floor, below which differences are \
+         not resolved.\n"
     );
     for (out, c) in items {
         let scene = &c.manifest.scene;
