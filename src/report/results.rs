@@ -56,7 +56,8 @@ pub fn write_docs(
          panel per integrator; the thin black staircase in each panel is the Pareto front of \
          its runs, all strategies together (the runs no other run beats in both time and \
          error); the dashed line is the reference's error floor, below which differences are \
-         not resolved.\n"
+         not resolved; a point's tag moves below or left of it, or is left out, where it \
+         would overlap another.\n"
     );
     for (out, c) in items {
         let scene = &c.manifest.scene;

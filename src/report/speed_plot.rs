@@ -1,7 +1,8 @@
 //! The speed-error plot: wall time against error, log-log, one panel per integrator (the same
 //! axes in every panel), each strategy a line through its configurations (static: the grid
 //! resolutions, circles; adaptive: its sweep, triangles), each point tagged with what varies
-//! along its line, the reference floor dashed, and under the lines a thin black staircase:
+//! along its line (a tag that would overlap one already drawn moves below or left of its point,
+//! else is left out), the reference floor dashed, and under the lines a thin black staircase:
 //! the Pareto front of the panel's runs. The legend is a column of its own beside the panels, so
 //! it never hides a point or a label.
 
@@ -63,6 +64,25 @@ fn front_steps(panel: &SpeedPanel) -> Vec<(f64, f64)> {
         steps.push((t, e));
     }
     steps
+}
+
+/// A label's box in backend pixels: `(left, top, right, bottom)`.
+type LabelBox = (i32, i32, i32, i32);
+
+/// Where a label of `size` (w, h px) for the point at `at` (px) goes, as an offset from it: the
+/// first of above right, below right, above left and below left whose box overlaps no box in
+/// `placed` (the box then joins them); `None` when every place overlaps (the label is left out,
+/// the point keeps its marker).
+fn place_label(at: (i32, i32), size: (u32, u32), placed: &mut Vec<LabelBox>) -> Option<(i32, i32)> {
+    let (w, h) = (size.0 as i32, size.1 as i32);
+    let offsets = [(6, -14), (6, 4), (-6 - w, -14), (-6 - w, 4)];
+    let overlaps = |a: LabelBox, b: LabelBox| a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3;
+    let (dx, dy) = offsets.into_iter().find(|&(dx, dy)| {
+        let b = (at.0 + dx, at.1 + dy, at.0 + dx + w, at.1 + dy + h);
+        !placed.iter().any(|&p| overlaps(p, b))
+    })?;
+    placed.push((at.0 + dx, at.1 + dy, at.0 + dx + w, at.1 + dy + h));
+    Some((dx, dy))
 }
 
 /// Draws the plot to `stem.svg` and `stem.png` and returns the files written.
@@ -145,6 +165,7 @@ fn draw<DB: DrawingBackend>(
         }
         let front = ShapeStyle::from(&BLACK).stroke_width(1);
         chart.draw_series(LineSeries::new(front_steps(panel), front))?;
+        let mut placed: Vec<LabelBox> = Vec::new();
         for curve in &panel.curves {
             let k = legend
                 .iter()
@@ -165,9 +186,12 @@ fn draw<DB: DrawingBackend>(
                     chart.draw_series(std::iter::once(TriangleMarker::new(at, 7, fill)))?;
                 }
                 let font = ("sans-serif", 11).into_font().color(&c);
-                chart.draw_series(std::iter::once(
-                    EmptyElement::at(at) + Text::new(p.2.clone(), (6, -14), font),
-                ))?;
+                let size = area.estimate_text_size(&p.2, &font)?;
+                if let Some(offset) = place_label(chart.backend_coord(&at), size, &mut placed) {
+                    chart.draw_series(std::iter::once(
+                        EmptyElement::at(at) + Text::new(p.2.clone(), offset, font),
+                    ))?;
+                }
             }
         }
     }
@@ -310,5 +334,45 @@ mod tests {
             ..panel
         };
         assert!(front_steps(&empty).is_empty());
+    }
+
+    #[test]
+    fn a_label_that_would_overlap_moves_and_is_left_out_when_nowhere_is_free() {
+        let mut placed = Vec::new();
+        let size = (20, 10);
+        // Four labels of one spot take the four places in turn; a fifth has none.
+        assert_eq!(place_label((100, 100), size, &mut placed), Some((6, -14)));
+        assert_eq!(place_label((102, 101), size, &mut placed), Some((6, 4)));
+        assert_eq!(place_label((100, 100), size, &mut placed), Some((-26, -14)));
+        assert_eq!(place_label((100, 100), size, &mut placed), Some((-26, 4)));
+        assert_eq!(place_label((100, 100), size, &mut placed), None);
+        assert_eq!(placed.len(), 4);
+        // A label clear of the others keeps the first place.
+        assert_eq!(place_label((200, 100), size, &mut placed), Some((6, -14)));
+    }
+
+    #[test]
+    fn tags_of_points_in_one_spot_are_drawn_where_they_fit_and_no_more() {
+        let dir = tempfile::tempdir().unwrap();
+        let points = (0..5)
+            .map(|k| (1.0 + 1e-3 * k as f64, 0.01, format!("tag{k}")))
+            .chain([(10.0, 0.001, "far".into())])
+            .collect();
+        let panel = SpeedPanel {
+            title: "rk4".into(),
+            curves: vec![SpeedCurve {
+                label: "bisect48".into(),
+                is_static: false,
+                points,
+            }],
+            floor: None,
+        };
+        let files = speed_error(&dir.path().join("se"), "t", "e_rms", &[panel]).unwrap();
+        let svg = std::fs::read_to_string(&files[0]).unwrap();
+        let drawn = (0..5)
+            .filter(|k| svg.contains(&format!("\ntag{k}\n")))
+            .count();
+        assert_eq!(drawn, 4, "{svg}");
+        assert!(svg.contains("\nfar\n"), "{svg}");
     }
 }
