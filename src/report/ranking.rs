@@ -58,10 +58,10 @@ pub fn ranking(c: &Comparison) -> String {
             "#", "run", "strategy", "wall (s)", "e_rms (m)"
         );
         for (i, (r, cell, _)) in rows.iter().enumerate() {
-            let flag = if r.e_rms < 2.0 * floor {
-                "  (not resolved)"
-            } else {
+            let flag = if Metric::Rms.resolves(c, r.e_rms) {
                 ""
+            } else {
+                "  (not resolved)"
             };
             let _ = writeln!(
                 s,

@@ -51,6 +51,12 @@ impl Metric {
             Metric::Hausdorff => f.hausdorff,
         }
     }
+
+    /// Whether the reference resolves `error` (m) in this measure: at least twice its floor.
+    /// Below that the reference cannot tell errors apart ("not resolved").
+    pub fn resolves(self, c: &Comparison, error: f64) -> bool {
+        error >= 2.0 * self.floor(c)
+    }
 }
 
 /// One curve: the completed runs of a series under one integrator, by increasing wall time.
@@ -166,30 +172,34 @@ pub fn static_time(statics: &Curve, metric: Metric, error: f64, fallback: f64) -
 }
 
 /// A speed-up cell against the static curve's time `baseline` (s) at the target's error: `x2.31`,
-/// `>= x4.0`, `does not reach (best 3.1e-2 m)`, flagged when the target error is within 2x of the
-/// floor.
-fn speedup_cell(
-    curve: &Curve,
-    target: &Row,
-    baseline: f64,
-    metric: Metric,
-    floor: f64,
-) -> (String, f64) {
-    let error = metric.of(target);
-    let flag = if error < 2.0 * floor {
-        " (not resolved)"
-    } else {
-        ""
-    };
-    match reach(curve, metric, error) {
-        Reach::At(t) => (format!("x{:.2}{flag}", baseline / t), baseline / t),
-        Reach::AtMost(t) => (format!(">= x{:.2}{flag}", baseline / t), baseline / t),
+/// `>= x4.0`, `does not reach (best 3.1e-2 m)`; its speed-up (0 when it does not reach).
+fn speedup_cell(curve: &Curve, target: &Row, baseline: f64, metric: Metric) -> (String, f64) {
+    match reach(curve, metric, metric.of(target)) {
+        Reach::At(t) => (format!("x{:.2}", baseline / t), baseline / t),
+        Reach::AtMost(t) => (format!(">= x{:.2}", baseline / t), baseline / t),
         Reach::Never(best) => (format!("does not reach (best {} m)", fmt_e(best)), 0.0),
     }
 }
 
+/// What the summary's cells and headers mean (markdown, one paragraph): printed under the
+/// summary tables of `report.md` and `docs/results.md` alike.
+pub const SUMMARY_NOTE: &str = "\
+Per scene and integrator, each strategy is a curve through its configurations. At the error of \
+static 17x17 and of static 33x33 (the two finest static grids when those are missing; e_rms and \
+Hausdorff alike), the speed-up is the static curve's wall time for that error over the time the \
+strategy's curve needs for the same error (log-log interpolation along both curves' Pareto \
+fronts). The static curve's time, given in each column's header, is that of its cheapest grid \
+that gets there: a coarser grid as accurate as the target sets it, so it can be shorter than \
+the target grid's own run (and shorter for 33x33 than for 17x17). `>=`: the strategy's fastest \
+run is already below that error. Above 1 the strategy buys more accuracy per second than the \
+static mesh. **not resolved**: the target error is within 2x of the reference's error floor; \
+the reference cannot tell errors that small apart, so that column's speed-ups and winner are \
+not evidence either way.
+";
+
 /// The answer first: per scene and integrator, each strategy's speed-up over the static curve at
-/// the errors of the target static grids, for e_rms and Hausdorff, and the winner (markdown).
+/// the errors of the target static grids, for e_rms and Hausdorff, and the winner, then
+/// [`SUMMARY_NOTE`] (markdown).
 pub fn summary<'a>(comparisons: impl IntoIterator<Item = &'a Comparison>) -> String {
     let mut s = String::new();
     for c in comparisons {
@@ -198,9 +208,9 @@ pub fn summary<'a>(comparisons: impl IntoIterator<Item = &'a Comparison>) -> Str
         }
     }
     if s.is_empty() {
-        s = "No static and adaptive curves to compare yet.\n".into();
+        return "No static and adaptive curves to compare yet.\n".into();
     }
-    s
+    s + SUMMARY_NOTE
 }
 
 /// The summary table of one scene and integrator.
@@ -215,31 +225,36 @@ fn summary_block(c: &Comparison, integrator: &str) -> String {
         return String::new();
     }
     let baseline = |m: Metric, t: &Row| static_time(statics, m, m.of(t), t.wall_s);
-    let mut head = format!("| strategy ({}, `{integrator}`) |", c.manifest.scene);
-    for m in Metric::ALL {
-        for t in &targets {
-            let _ = write!(
-                head,
-                " {} of static {}x{} ({} m; static curve {} s) |",
-                m.name(),
-                t.resolution,
-                t.resolution,
-                fmt_e(m.of(t)),
-                fmt_s(baseline(m, t))
-            );
+    let columns: Vec<(Metric, &Row)> = Metric::ALL
+        .iter()
+        .flat_map(|m| targets.iter().map(move |t| (*m, *t)))
+        .collect();
+    let flag = |m: Metric, t: &Row| {
+        if m.resolves(c, m.of(t)) {
+            ""
+        } else {
+            ", **not resolved**"
         }
+    };
+    let mut head = format!("| strategy ({}, `{integrator}`) |", c.manifest.scene);
+    for &(m, t) in &columns {
+        let _ = write!(
+            head,
+            " {} of static {}x{} ({} m{}; static curve {} s) |",
+            m.name(),
+            t.resolution,
+            t.resolution,
+            fmt_e(m.of(t)),
+            flag(m, t),
+            fmt_s(baseline(m, t))
+        );
     }
-    let cols = Metric::ALL.len() * targets.len();
-    let mut s = format!("{head}\n|---|{}\n", "---:|".repeat(cols));
-    let mut best: Vec<(f64, &str)> = vec![(0.0, "none"); cols];
+    let mut s = format!("{head}\n|---|{}\n", "---:|".repeat(columns.len()));
+    let mut best: Vec<(f64, &str)> = vec![(0.0, "none"); columns.len()];
     for k in &others {
         let mut row = format!("| `{}` |", k.series);
-        for (j, (m, t)) in Metric::ALL
-            .iter()
-            .flat_map(|m| targets.iter().map(move |t| (*m, *t)))
-            .enumerate()
-        {
-            let (cell, x) = speedup_cell(k, t, baseline(m, t), m, m.floor(c));
+        for (j, &(m, t)) in columns.iter().enumerate() {
+            let (cell, x) = speedup_cell(k, t, baseline(m, t), m);
             let _ = write!(row, " {cell} |");
             if x > best[j].0 {
                 best[j] = (x, k.series);
@@ -249,21 +264,22 @@ fn summary_block(c: &Comparison, integrator: &str) -> String {
         s.push('\n');
     }
     let mut win = String::from("| **wins** |");
-    for (x, name) in &best {
-        if *x >= 1.0 {
-            let _ = write!(win, " `{name}` |");
+    for (&(x, name), &(m, t)) in best.iter().zip(&columns) {
+        let who = if x >= 1.0 {
+            format!("`{name}`")
         } else {
-            let _ = write!(win, " static |");
-        }
+            "static".into()
+        };
+        let note = if flag(m, t).is_empty() {
+            ""
+        } else {
+            " (not resolved)"
+        };
+        let _ = write!(win, " {who}{note} |");
     }
     s += &win;
     s += "\n\n";
     s
-}
-
-/// Whether a run's e_rms is resolved by the reference: at least twice the reference's floor.
-fn resolved(c: &Comparison, r: &Row) -> bool {
-    r.e_rms >= 2.0 * c.manifest.reference.floor.e_rms
 }
 
 /// The computed reading (markdown): failed runs; per integrator, the static curve (observed
@@ -326,7 +342,7 @@ fn static_curve(c: &Comparison, statics: &Curve) -> String {
     }
     let near: Vec<&str> = sorted
         .iter()
-        .filter(|r| !resolved(c, r))
+        .filter(|r| !Metric::Rms.resolves(c, r.e_rms))
         .map(|r| r.label.as_str())
         .collect();
     if !near.is_empty() {
@@ -360,7 +376,7 @@ fn run_line(c: &Comparison, r: &Row, statics: Option<&Curve>) -> String {
         Some(Reach::At(t)) => {
             let x = t / r.wall_s;
             let verdict = if x >= 1.0 { "wins" } else { "loses" };
-            let flag = if resolved(c, r) {
+            let flag = if Metric::Rms.resolves(c, r.e_rms) {
                 ""
             } else {
                 "; not resolved: within 2x of the floor"
@@ -493,5 +509,48 @@ pub(crate) mod tests {
         assert!(table.contains("static curve 2.0 s"), "{table}");
         assert!(table.contains("x2.00"), "{table}");
         assert!(!table.contains("x10.00"), "{table}");
+    }
+
+    #[test]
+    fn a_target_within_2x_of_the_floor_flags_its_column_and_its_winner() {
+        // The floor is 1e-4 m in both measures; static 33x33's e_rms (1.5e-4 m) is within 2x of
+        // it, its Hausdorff (3e-4 m, twice e_rms) is not, nor is anything at 17x17.
+        let rows = [
+            run("static", "static", 5, 1.0, 4e-2),
+            run("static", "static", 17, 10.0, 2e-2),
+            run("static", "static", 33, 100.0, 1.5e-4),
+            run("bisect48", "bisect48", 5, 2.0, 2e-2),
+            run("bisect48", "bisect48", 9, 20.0, 1e-4),
+        ];
+        let c = comparison(&rows);
+        assert!(!Metric::Rms.resolves(&c, 1.5e-4));
+        assert!(Metric::Hausdorff.resolves(&c, 3e-4));
+        let table = summary([&c]);
+        let lines: Vec<&str> = table.lines().collect();
+        let head: Vec<&str> = lines[0].trim_matches('|').split(" | ").collect();
+        let flagged: Vec<bool> = head[1..]
+            .iter()
+            .map(|h| h.contains("**not resolved**"))
+            .collect();
+        // Columns: e_rms 17, e_rms 33, Hausdorff 17, Hausdorff 33.
+        assert_eq!(flagged, [false, true, false, false], "{table}");
+        let wins = lines
+            .iter()
+            .find(|l| l.starts_with("| **wins** |"))
+            .expect("a verdict row");
+        let verdict: Vec<&str> = wins.trim_matches('|').split(" | ").map(str::trim).collect();
+        assert_eq!(
+            verdict[1..],
+            [
+                "`bisect48`",
+                "`bisect48` (not resolved)",
+                "`bisect48`",
+                "`bisect48`"
+            ],
+            "{table}"
+        );
+        // The definitions follow the table once, here as in docs/results.md.
+        assert!(table.ends_with(SUMMARY_NOTE), "{table}");
+        assert_eq!(table.matches("**not resolved**:").count(), 1, "{table}");
     }
 }

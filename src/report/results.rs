@@ -42,15 +42,8 @@ pub fn write_docs(
     );
     let _ = writeln!(
         md,
-        "## Summary: speed-up over the static mesh at equal error\n\n\
-         Per scene and integrator, each strategy is a curve through its configurations. At the \
-         error of static 17x17 and of static 33x33 (e_rms and Hausdorff alike), the speed-up is \
-         the static curve's wall time for that error (its cheapest grid that gets there, so a \
-         coarser grid as accurate as the target sets it) over the time the strategy's curve \
-         needs for the same error (log-log interpolation along both curves' Pareto fronts; `>=` \
-         when the strategy's fastest run is already below). Above 1 the strategy buys more \
-         accuracy per second than the static mesh. \
-         Details, profiles and plots per scene below.\n\n{}",
+        "## Summary: speed-up over the static mesh at equal error\n\n{}\n\
+         Details, profiles and plots per scene below.\n",
         summary(items.iter().map(|(_, c)| c))
     );
     let _ = writeln!(md, "{notes}\n");
@@ -59,9 +52,12 @@ pub fn write_docs(
         "How to read: `e(t)` is the RMS distance between the run's and the reference's world \
          positions of the same material points at the same time; `e_rms` its RMS over the output \
          frames; the Hausdorff distance compares the final surfaces regardless of where each \
-         material point went (fold-pattern-insensitive). The speed-error plot is log-log; the \
-         black line is the Pareto front (runs no other run beats in both time and error); the \
-         dashed line is the reference's error floor, below which differences are not resolved.\n"
+         material point went (fold-pattern-insensitive). The speed-error plot is log-log, one \
+         panel per integrator; the thin black staircase in each panel is the Pareto front of \
+         its runs, all strategies together (the runs no other run beats in both time and \
+         error); the dashed line is the reference's error floor, below which differences are \
+         not resolved; a point's tag moves below or left of it, or is left out, where it \
+         would overlap another.\n"
     );
     for (out, c) in items {
         let scene = &c.manifest.scene;

@@ -1,12 +1,15 @@
 //! The speed-error plot: wall time against error, log-log, one panel per integrator (the same
 //! axes in every panel), each strategy a line through its configurations (static: the grid
 //! resolutions, circles; adaptive: its sweep, triangles), each point tagged with what varies
-//! along its line, the reference floor dashed. The legend is a column of its own beside the
-//! panels, so it never hides a point or a label.
+//! along its line (a tag that would overlap one already drawn moves below or left of its point,
+//! else is left out), the reference floor dashed, and under the lines a thin black staircase:
+//! the Pareto front of the panel's runs. The legend is a column of its own beside the panels, so
+//! it never hides a point or a label.
 
 use super::plots::{
     color, log_range, log_tick, log_tick_sci, register_fonts, write_figure, DrawResult, PlotError,
 };
+use crate::eval::metrics::pareto_front;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::path::{Path, PathBuf};
@@ -39,6 +42,47 @@ const HEIGHT: u32 = 560;
 
 fn finite_positive(p: &(f64, f64, String)) -> bool {
     p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite()
+}
+
+/// The Pareto front of a panel over the runs of all its curves (those no other run of the panel
+/// beats in both wall time and error), as a staircase `(s, m)` from the fastest run to the most
+/// accurate: from each front run right at its error to the next one's time, then down to its
+/// error. Empty without a finite, positive point.
+fn front_steps(panel: &SpeedPanel) -> Vec<(f64, f64)> {
+    let points: Vec<(f64, f64)> = panel
+        .curves
+        .iter()
+        .flat_map(|c| &c.points)
+        .filter(|p| finite_positive(p))
+        .map(|p| (p.0, p.1))
+        .collect();
+    let mut steps: Vec<(f64, f64)> = Vec::new();
+    for (t, e) in pareto_front(&points).into_iter().map(|i| points[i]) {
+        if let Some(&(_, above)) = steps.last() {
+            steps.push((t, above));
+        }
+        steps.push((t, e));
+    }
+    steps
+}
+
+/// A label's box in backend pixels: `(left, top, right, bottom)`.
+type LabelBox = (i32, i32, i32, i32);
+
+/// Where a label of `size` (w, h px) for the point at `at` (px) goes, as an offset from it: the
+/// first of above right, below right, above left and below left whose box overlaps no box in
+/// `placed` (the box then joins them); `None` when every place overlaps (the label is left out,
+/// the point keeps its marker).
+fn place_label(at: (i32, i32), size: (u32, u32), placed: &mut Vec<LabelBox>) -> Option<(i32, i32)> {
+    let (w, h) = (size.0 as i32, size.1 as i32);
+    let offsets = [(6, -14), (6, 4), (-6 - w, -14), (-6 - w, 4)];
+    let overlaps = |a: LabelBox, b: LabelBox| a.0 < b.2 && b.0 < a.2 && a.1 < b.3 && b.1 < a.3;
+    let (dx, dy) = offsets.into_iter().find(|&(dx, dy)| {
+        let b = (at.0 + dx, at.1 + dy, at.0 + dx + w, at.1 + dy + h);
+        !placed.iter().any(|&p| overlaps(p, b))
+    })?;
+    placed.push((at.0 + dx, at.1 + dy, at.0 + dx + w, at.1 + dy + h));
+    Some((dx, dy))
 }
 
 /// Draws the plot to `stem.svg` and `stem.png` and returns the files written.
@@ -119,6 +163,9 @@ fn draw<DB: DrawingBackend>(
                 chart.draw_series(LineSeries::new(vec![(a, f), (b, f)], style))?;
             }
         }
+        let front = ShapeStyle::from(&BLACK).stroke_width(1);
+        chart.draw_series(LineSeries::new(front_steps(panel), front))?;
+        let mut placed: Vec<LabelBox> = Vec::new();
         for curve in &panel.curves {
             let k = legend
                 .iter()
@@ -139,16 +186,19 @@ fn draw<DB: DrawingBackend>(
                     chart.draw_series(std::iter::once(TriangleMarker::new(at, 7, fill)))?;
                 }
                 let font = ("sans-serif", 11).into_font().color(&c);
-                chart.draw_series(std::iter::once(
-                    EmptyElement::at(at) + Text::new(p.2.clone(), (6, -14), font),
-                ))?;
+                let size = area.estimate_text_size(&p.2, &font)?;
+                if let Some(offset) = place_label(chart.backend_coord(&at), size, &mut placed) {
+                    chart.draw_series(std::iter::once(
+                        EmptyElement::at(at) + Text::new(p.2.clone(), offset, font),
+                    ))?;
+                }
             }
         }
     }
     draw_legend(&side, &legend, panels.iter().any(|p| p.floor.is_some()))
 }
 
-/// The legend column: one line per curve label, then the floor.
+/// The legend column: one line per curve label, the Pareto front, then the floor.
 fn draw_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     legend: &[(String, bool)],
@@ -171,6 +221,17 @@ fn draw_legend<DB: DrawingBackend>(
         area.draw(&Text::new(label.clone(), (44, y - 8), font.clone()))?;
         y += 24;
     }
+    let black = ShapeStyle::from(&BLACK).stroke_width(1);
+    area.draw(&PathElement::new(
+        vec![(8, y), (22, y), (22, y + 6), (36, y + 6)],
+        black,
+    ))?;
+    area.draw(&Text::new(
+        "Pareto front (all runs)",
+        (44, y - 5),
+        font.clone(),
+    ))?;
+    y += 24;
     if floor {
         let grey = ShapeStyle::from(&RGBColor(120, 120, 120)).stroke_width(1);
         area.draw(&PathElement::new(vec![(8, y), (16, y)], grey))?;
@@ -206,9 +267,112 @@ mod tests {
         .unwrap();
         let svg = std::fs::read_to_string(&files[0]).unwrap();
         assert!(svg.contains(&format!("width=\"{}\"", 2 * PANEL_WIDTH + LEGEND_WIDTH)));
-        for text in ["rk4", "implicit_euler", "bisect48", "reference floor"] {
+        for text in [
+            "rk4",
+            "implicit_euler",
+            "bisect48",
+            "reference floor",
+            "Pareto front",
+        ] {
             assert!(svg.contains(text), "{text}");
         }
+        // Each panel's front: all four runs are on it (static at 1 and 10 s, bisect48 at 2 and
+        // 20 s, each more accurate than the faster ones), a black staircase of 7 points; the
+        // axes, ticks and the legend's sample are black polylines of at most 4.
+        assert_eq!(front_steps(&panel("rk4")).len(), 7);
+        let polylines = svg
+            .split("<polyline")
+            .skip(1)
+            .map(|p| p.split("/>").next().unwrap());
+        let staircases = polylines
+            .filter(|p| p.contains("stroke=\"#000000\""))
+            .map(|p| {
+                p.split("points=\"")
+                    .nth(1)
+                    .unwrap()
+                    .split('"')
+                    .next()
+                    .unwrap()
+            })
+            .filter(|points| points.split_whitespace().count() >= 7)
+            .count();
+        assert_eq!(staircases, 2, "{svg}");
         assert!(std::fs::metadata(&files[1]).unwrap().len() > 1000);
+    }
+
+    #[test]
+    fn the_front_steps_through_the_runs_no_other_run_beats() {
+        let curve = |label: &str, points: &[(f64, f64)]| SpeedCurve {
+            label: label.into(),
+            is_static: label == "static",
+            points: points.iter().map(|&(t, e)| (t, e, String::new())).collect(),
+        };
+        let panel = SpeedPanel {
+            title: "rk4".into(),
+            curves: vec![
+                // 4 s is beaten by bisect48's 3 s run; 0 s cannot be drawn on a log axis.
+                curve(
+                    "static",
+                    &[(1.0, 0.1), (4.0, 0.04), (10.0, 0.01), (0.0, 1e-9)],
+                ),
+                curve("bisect48", &[(3.0, 0.03), (20.0, 0.02), (f64::NAN, 1e-9)]),
+            ],
+            floor: None,
+        };
+        assert_eq!(
+            front_steps(&panel),
+            [
+                (1.0, 0.1),
+                (3.0, 0.1),
+                (3.0, 0.03),
+                (10.0, 0.03),
+                (10.0, 0.01)
+            ]
+        );
+        let empty = SpeedPanel {
+            curves: Vec::new(),
+            ..panel
+        };
+        assert!(front_steps(&empty).is_empty());
+    }
+
+    #[test]
+    fn a_label_that_would_overlap_moves_and_is_left_out_when_nowhere_is_free() {
+        let mut placed = Vec::new();
+        let size = (20, 10);
+        // Four labels of one spot take the four places in turn; a fifth has none.
+        assert_eq!(place_label((100, 100), size, &mut placed), Some((6, -14)));
+        assert_eq!(place_label((102, 101), size, &mut placed), Some((6, 4)));
+        assert_eq!(place_label((100, 100), size, &mut placed), Some((-26, -14)));
+        assert_eq!(place_label((100, 100), size, &mut placed), Some((-26, 4)));
+        assert_eq!(place_label((100, 100), size, &mut placed), None);
+        assert_eq!(placed.len(), 4);
+        // A label clear of the others keeps the first place.
+        assert_eq!(place_label((200, 100), size, &mut placed), Some((6, -14)));
+    }
+
+    #[test]
+    fn tags_of_points_in_one_spot_are_drawn_where_they_fit_and_no_more() {
+        let dir = tempfile::tempdir().unwrap();
+        let points = (0..5)
+            .map(|k| (1.0 + 1e-3 * k as f64, 0.01, format!("tag{k}")))
+            .chain([(10.0, 0.001, "far".into())])
+            .collect();
+        let panel = SpeedPanel {
+            title: "rk4".into(),
+            curves: vec![SpeedCurve {
+                label: "bisect48".into(),
+                is_static: false,
+                points,
+            }],
+            floor: None,
+        };
+        let files = speed_error(&dir.path().join("se"), "t", "e_rms", &[panel]).unwrap();
+        let svg = std::fs::read_to_string(&files[0]).unwrap();
+        let drawn = (0..5)
+            .filter(|k| svg.contains(&format!("\ntag{k}\n")))
+            .count();
+        assert_eq!(drawn, 4, "{svg}");
+        assert!(svg.contains("\nfar\n"), "{svg}");
     }
 }

@@ -1,6 +1,7 @@
 //! `adaptcloth reference`, `compare`, `merge` end to end on tiny configurations (a 9x9 reference,
 //! 3x3 and 5x5 runs, 0.15 s so the cloth touches the sphere): the files exist, the table parses,
 //! the reference is cached, and sharded runs merge into the same numbers as one run.
+use adaptcloth::report::reading::SUMMARY_NOTE;
 use adaptcloth::study::table::{column_names, read_csv};
 use std::path::Path;
 use std::process::Command;
@@ -99,6 +100,11 @@ fn tiny_compare_end_to_end_with_cache_shards_and_merge() {
     }
     let report = std::fs::read_to_string(full.join("report.md")).unwrap();
     assert!(report.contains("Error floor"), "{report}");
+    // What the summary's speed-ups, static-curve times and flags mean, under its table.
+    let note = report
+        .find(SUMMARY_NOTE)
+        .expect("the summary's definitions");
+    assert!(report.find("| **wins** |").unwrap() < note, "{report}");
     assert!(labels.contains(&"remesh-5-rk4"), "{labels:?}");
 
     // The reference is read from the cache the second time (one entry).
@@ -182,7 +188,25 @@ fn tiny_compare_end_to_end_with_cache_shards_and_merge() {
             "{row}"
         );
     }
-    assert!(summary.contains("| **wins** |"), "{summary}");
+    assert_eq!(summary.matches(SUMMARY_NOTE).count(), 1, "{summary}");
+    // A target the reference does not resolve is flagged in its column's header and winner.
+    let header = summary
+        .lines()
+        .find(|l| l.starts_with("| strategy"))
+        .unwrap();
+    let wins = summary
+        .lines()
+        .find(|l| l.starts_with("| **wins** |"))
+        .expect("a verdict row");
+    let heads: Vec<&str> = header.trim_matches('|').split(" | ").collect();
+    let verdicts: Vec<&str> = wins.trim_matches('|').split(" | ").map(str::trim).collect();
+    for (h, v) in heads.iter().zip(&verdicts).skip(1) {
+        assert_eq!(
+            h.contains("**not resolved**"),
+            v.ends_with("(not resolved)"),
+            "{summary}"
+        );
+    }
 
     // Merging a shard twice is refused.
     let (code, text) = adaptcloth(&[
