@@ -73,7 +73,11 @@ pub fn ranking(c: &Comparison) -> String {
                 fmt_e(r.e_rms),
             );
         }
-        if !rows.is_empty() && rows.iter().all(|(r, _, _)| r.e_rms < 2.0 * floor) {
+        if !rows.is_empty()
+            && rows
+                .iter()
+                .all(|(r, _, _)| !Metric::Rms.resolves(c, r.e_rms))
+        {
             let _ = writeln!(
                 s,
                 "  none of these runs is resolved: every error is within 2x of the reference's \
