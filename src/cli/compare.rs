@@ -332,7 +332,9 @@ fn run_plans(
             progress: e.progress,
             interrupt: Some(interrupt.clone()),
         };
-        let comparison = study::compare(&loaded, &opts)?;
+        // The pages are made from the tables as written (their numbers rounded), as
+        // `adaptcloth report` makes them, so the two give the same pages.
+        let comparison = study::table::as_written(&out, &study::compare(&loaded, &opts)?)?;
         crate::report::write_report(&out, &comparison)?;
         let (runs, secs) = (comparison.rows.len(), clock.elapsed().as_secs_f64());
         crate::note!("{}: {runs} run(s) in {secs:.1} s", clip(scene));

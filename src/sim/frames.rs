@@ -1,18 +1,16 @@
 //! Output frames written beside the step loop: the loop's thread copies the state it records
 //! ([`Frame::capture`]); formatting the text and writing the file go to another thread of the
 //! pool when the pool has one to spare ([`FrameSink`]), so the frames cost the step loop only
-//! the copy. Each frame is its own file, written by the same function either way, so the files
-//! do not depend on where they were written.
+//! the copy. One frame is written at a time, each after the one before has been written, and
+//! none after a failed one: the frames on disk are always the first ones, numbered without a
+//! gap. Each frame is its own file, written by the same function either way, so the files do not
+//! depend on where they were written.
 
 use crate::math::Vec3;
 use crate::mesh::Mesh;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
-
-/// Frames being written at once, at most; a frame past it is written on the loop's thread, so
-/// the copies waiting in memory stay few when writing is slower than stepping.
-const MAX_IN_FLIGHT: usize = 4;
 
 /// One output frame: the mesh's live vertices renumbered in slot order.
 pub struct Frame {
@@ -70,8 +68,10 @@ impl Frame {
 struct Outcome {
     /// Frames written.
     written: AtomicUsize,
-    /// Frames handed to another thread and not yet written.
-    in_flight: AtomicUsize,
+    /// Whether a frame handed to another thread is still to be written.
+    writing: AtomicBool,
+    /// Whether a write has failed (kept when the failure itself has been taken).
+    failed: AtomicBool,
     /// The first write that failed: its file and error.
     failure: Mutex<Option<(PathBuf, std::io::Error)>>,
 }
@@ -83,10 +83,15 @@ impl Outcome {
                 self.written.fetch_add(1, Ordering::AcqRel);
             }
             Err(e) => {
+                self.failed.store(true, Ordering::Release);
                 let mut failure = self.failure.lock().unwrap_or_else(|p| p.into_inner());
                 failure.get_or_insert((path.to_path_buf(), e));
             }
         }
+    }
+
+    fn failed(&self) -> bool {
+        self.failed.load(Ordering::Acquire)
     }
 }
 
@@ -125,20 +130,29 @@ pub struct FrameSink<'a, 's> {
 }
 
 impl FrameSink<'_, '_> {
-    /// Writes `frame`, on another thread unless there is no scope or [`MAX_IN_FLIGHT`] frames
-    /// are being written; a failure is kept for [`FrameWrites::failure`].
+    /// Writes `frame`, on another thread when there is a scope, once the frame handed over
+    /// before it has been written (waiting for it, or writing it here if no thread has taken
+    /// it yet); not at all after a failed write, which is kept for [`FrameWrites::failure`].
     pub fn submit(&self, frame: Frame) {
         let outcome = &self.outcome;
+        while outcome.writing.load(Ordering::Acquire) {
+            if rayon::yield_now() != Some(rayon::Yield::Executed) {
+                std::thread::yield_now();
+            }
+        }
+        if outcome.failed() {
+            return;
+        }
         match self.scope {
-            Some(scope) if outcome.in_flight.load(Ordering::Acquire) < MAX_IN_FLIGHT => {
-                outcome.in_flight.fetch_add(1, Ordering::AcqRel);
+            Some(scope) => {
+                outcome.writing.store(true, Ordering::Release);
                 let outcome = Arc::clone(outcome);
                 scope.spawn(move |_| {
                     outcome.record(&frame.path, frame.write());
-                    outcome.in_flight.fetch_sub(1, Ordering::AcqRel);
+                    outcome.writing.store(false, Ordering::Release);
                 });
             }
-            _ => outcome.record(&frame.path, frame.write()),
+            None => outcome.record(&frame.path, frame.write()),
         }
     }
 }
@@ -148,9 +162,9 @@ mod tests {
     use super::*;
     use crate::mesh::union_jack;
 
-    /// Twenty frames handed to a pool of two threads (more than [`MAX_IN_FLIGHT`] at once, so
-    /// some are written in line) are all written, counted, and equal to frames written in line;
-    /// a write into a missing folder is the failure reported, once.
+    /// Twenty frames handed to a pool of two threads are all written, counted, and equal to
+    /// frames written in line; a write into a missing folder is the failure reported, once, and
+    /// no frame handed over after it is written.
     #[test]
     fn frames_written_on_the_pool_are_the_frames_written_in_line() {
         let dir = tempfile::tempdir().unwrap();
@@ -181,8 +195,13 @@ mod tests {
                 }
                 let missing = dir.path().join("no such folder/frame.obj");
                 sink.submit(Frame::capture(missing, &mesh, &states[0], 0.0));
+                sink.submit(Frame::capture(name("after", 0), &mesh, &states[0], 0.0));
             })
         });
+        assert!(
+            !name("after", 0).exists(),
+            "a frame after a failed one is not written"
+        );
         assert_eq!((inline.written(), pooled.written()), (20, 20));
         assert!(inline.failure().is_none());
         let (path, _) = pooled

@@ -317,6 +317,14 @@ pub fn write_tables(out: &Path, c: &Comparison) -> Result<(), StudyError> {
     crate::io::write_atomic(&path, json.as_bytes()).map_err(super::io_err(&path))
 }
 
+/// Writes `c`'s tables into `out` ([`write_tables`]) and returns the comparison read back from
+/// them, its numbers rounded as written: pages made from it are the ones `adaptcloth report`
+/// makes from the folder later.
+pub fn as_written(out: &Path, c: &Comparison) -> Result<Comparison, StudyError> {
+    write_tables(out, c)?;
+    read_comparison(out)
+}
+
 /// Reads a comparison folder (`comparison.json` and `comparison.csv`); a path that is not a
 /// folder holding both, readable and well formed, is bad input ([`StudyError::Config`]), not a
 /// failed read. The messages name the file, not the command.

@@ -804,3 +804,37 @@ fn a_reference_to_compute_is_announced_before_it_runs() {
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("not cached"), "{err}");
 }
+
+/// A study's pages are the ones `adaptcloth report` makes from its folder afterwards: made from
+/// the tables as written, not from the unrounded numbers in memory.
+#[test]
+fn report_on_a_study_folder_rewrites_the_same_pages() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("s.toml");
+    std::fs::write(
+        &study,
+        "name = \"s\"\ndescription = \"d\"\nscenes = [\"sphere\"]\nduration = 0.02\n\
+         [reference]\nresolution = 9\nfloor = 5\n\
+         [[runs]]\nstrategy = \"static\"\nsweep = { \"cloth.resolution\" = [3, 5] }\n\
+         [[runs]]\nstrategy = \"bisect48\"\nresolution = 3\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let (code, err) = adaptcloth(&[
+        "study",
+        study.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        dir.path().join("cache").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let folder = out.join("sphere");
+    let read = |f: &str| std::fs::read(folder.join(f)).unwrap();
+    let (report, table) = (read("report.md"), read("comparison.csv"));
+    let (code, err) = adaptcloth(&["report", folder.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(read("report.md") == report, "report.md differs");
+    assert!(read("comparison.csv") == table, "comparison.csv differs");
+}
