@@ -66,23 +66,34 @@ impl Default for ReferenceSettings {
     }
 }
 
-/// The floor: the floor run's errors against the reference.
+/// The floor: the floor run's errors against the reference. An error that is not a number (the
+/// tracked-point error of a scene without tracked points) is written `null` in JSON and read
+/// back as NaN.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Floor {
     /// Vertices per side of the floor run.
     pub resolution: usize,
     /// Its `e_rms` (m).
+    #[serde(deserialize_with = "number_or_nan")]
     pub e_rms: f64,
     /// Its `e_final` (m).
+    #[serde(deserialize_with = "number_or_nan")]
     pub e_final: f64,
     /// Its tracked-point error (m).
+    #[serde(deserialize_with = "number_or_nan")]
     pub tracked_err: f64,
     /// Its Hausdorff distance (m).
+    #[serde(deserialize_with = "number_or_nan")]
     pub hausdorff: f64,
     /// Its wall time (s).
     pub wall_s: f64,
     /// Its steps.
     pub steps: u64,
+}
+
+/// A number as serde_json writes it, `null` for a NaN, read back (NaN for `null`).
+fn number_or_nan<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
 }
 
 /// The JSON header of `reference.bin`: everything about the reference but the positions.

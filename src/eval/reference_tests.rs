@@ -172,6 +172,35 @@ fn bin_round_trip() {
     ));
 }
 
+/// A floor error that is not a number (no tracked point: a scene without `[[tracked]]`) is
+/// written `null` and read back as NaN: such a reference is read from the cache, not discarded
+/// and computed again at every study.
+#[test]
+fn a_reference_whose_floor_has_no_tracked_error_is_read_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("reference.bin");
+    let samples = SamplePoints {
+        rest: vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5]],
+        grid: 2,
+        side: 0,
+    };
+    let t = Trajectory {
+        points: 3,
+        grid: 2,
+        side: 0,
+        times: vec![0.0],
+        positions: vec![[0.0; 3]; 3],
+        final_vertices: vec![[1.0, 2.0, 3.0]],
+        adapt: Default::default(),
+    };
+    let mut header = header_of(samples, &t, ReferenceSettings::default());
+    header.floor.tracked_err = f64::NAN;
+    write_bin(&path, &header, &t).unwrap();
+    let (back, _) = read_bin(&path).expect("read back");
+    assert!(back.floor.tracked_err.is_nan());
+    assert_eq!(back.floor.e_rms, header.floor.e_rms);
+}
+
 /// A valid `reference.bin` over a complete 2 x 2 sample grid at `path`, and its header.
 fn write_small_entry(path: &Path) -> ReferenceHeader {
     let samples = SamplePoints {
