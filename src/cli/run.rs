@@ -17,7 +17,7 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
         duration: args.duration,
     };
     let loaded = scene::resolve(args.scene.as_deref(), &overrides)?;
-    loaded.check_run()?;
+    loaded.check_run_alone()?;
     let setup = |e| match e {
         SetupError::OffPattern { .. } | SetupError::Scene(_) => CliError::Input(e.to_string()),
         e => CliError::Input(format!("{}: {e}", loaded.source)),

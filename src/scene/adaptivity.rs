@@ -53,23 +53,38 @@ pub(super) fn strategy_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), Sc
     Ok(())
 }
 
-/// Fails when the criteria are the sizing field's, or `h_min` (the shortest edge an adaptive
-/// strategy may create) is set, while the strategy never edits the mesh (`static` reads no
-/// criteria and creates no edge).
+/// Fails when the criteria are the sizing field's while the strategy never edits the mesh
+/// (`static` reads no criteria).
 pub(super) fn criteria_need_adaptivity(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
-    let adapts = crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh);
-    let asked = if adapts {
-        None
-    } else if a.criteria == CriteriaSpec::Sizing {
-        Some(("criteria", "\"sizing\"".to_string(), "the sizing field"))
-    } else if a.h_min != AdaptivitySpec::default().h_min {
-        Some(("h_min", a.h_min.to_string(), "a refinement floor"))
-    } else {
-        None
-    };
-    let Some((key, value, what)) = asked else {
+    if a.criteria != CriteriaSpec::Sizing {
         return Ok(());
-    };
+    }
+    needs_adaptivity(c, a, "criteria", "\"sizing\"", "the sizing field")
+}
+
+/// Fails when `h_min` (the shortest edge an adaptive strategy may create) is set while the
+/// strategy never edits the mesh: for a run on its own, where a forgotten `--strategy` would
+/// otherwise run the static grid silently (a study's `set` of `h_min` for every run leaves its
+/// static baseline as it is).
+pub(super) fn floor_needs_adaptivity(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
+    if a.h_min == AdaptivitySpec::default().h_min {
+        return Ok(());
+    }
+    needs_adaptivity(c, a, "h_min", &a.h_min.to_string(), "a refinement floor")
+}
+
+/// The error for `adaptivity.key = value`, which asks for `what`, when the strategy never edits
+/// the mesh; none otherwise.
+fn needs_adaptivity(
+    c: &Checker,
+    a: &AdaptivitySpec,
+    key: &str,
+    value: &str,
+    what: &str,
+) -> Result<(), SceneError> {
+    if crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh) {
+        return Ok(());
+    }
     let adaptive: Vec<&str> = crate::strategies::STRATEGIES
         .iter()
         .filter(|s| s.edits_mesh)

@@ -96,6 +96,14 @@ impl LoadedScene {
         adaptivity::criteria_need_adaptivity(&self.checker(), &self.scene.adaptivity)
     }
 
+    /// [`LoadedScene::check_run`] for a run on its own (`adaptcloth run`): also, `h_min` needs a
+    /// strategy that adapts the mesh (a study's runs share its `set`, which may give `h_min` to
+    /// its static baseline too).
+    pub fn check_run_alone(&self) -> Result<(), SceneError> {
+        self.check_run()?;
+        adaptivity::floor_needs_adaptivity(&self.checker(), &self.scene.adaptivity)
+    }
+
     /// Fails when `adaptivity.max_vertices` is below `start`, the vertex count of the cloth as
     /// built: for an OBJ cloth, whose count [`validate`] cannot know before the file is read.
     pub fn check_start_vertices(&self, start: usize) -> Result<(), SceneError> {

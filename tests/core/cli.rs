@@ -838,3 +838,33 @@ fn report_on_a_study_folder_rewrites_the_same_pages() {
     assert!(read("report.md") == report, "report.md differs");
     assert!(read("comparison.csv") == table, "comparison.csv differs");
 }
+
+/// A study-wide `h_min` reaches every run, its static baseline included, which ignores it: only
+/// a run on its own refuses `h_min` with the static strategy.
+#[test]
+fn a_study_wide_h_min_leaves_its_static_baseline_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let study = dir.path().join("s.toml");
+    std::fs::write(
+        &study,
+        "name = \"s\"\ndescription = \"d\"\nscenes = [\"sphere\"]\nduration = 0.01\n\
+         set = { \"adaptivity.h_min\" = 0.03 }\n\
+         [reference]\nresolution = 9\nfloor = 5\n\
+         [[runs]]\nstrategy = \"static\"\nresolution = 5\n\
+         [[runs]]\nstrategy = \"bisect48\"\nresolution = 5\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let (code, err) = adaptcloth(&[
+        "study",
+        study.to_str().unwrap(),
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        dir.path().join("cache").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let table = std::fs::read_to_string(out.join("sphere/comparison.csv")).unwrap();
+    assert_eq!(table.matches(",completed,").count(), 2, "{table}");
+}
