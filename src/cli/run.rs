@@ -17,7 +17,7 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
         duration: args.duration,
     };
     let loaded = scene::resolve(args.scene.as_deref(), &overrides)?;
-    loaded.check_run_alone()?;
+    loaded.check_run()?;
     let setup = |e| match e {
         SetupError::OffPattern { .. } | SetupError::Scene(_) => CliError::Input(e.to_string()),
         e => CliError::Input(format!("{}: {e}", loaded.source)),
@@ -58,7 +58,10 @@ pub fn run(args: RunArgs) -> Result<(), CliError> {
         loaded.scene.time.duration,
         clip(&out_dir.to_string_lossy())
     );
-    if let Some(note) = simulation.dynamic_step_note() {
+    for note in [loaded.run_alone_note(), simulation.dynamic_step_note()]
+        .into_iter()
+        .flatten()
+    {
         crate::note!("{note}");
     }
     let s = sim::run(&mut simulation, &opts)

@@ -477,8 +477,8 @@ pub fn ensure_reference(
         steps[k] = simulation.step_estimate().0;
     }
     crate::note!(
-        "reference {}: not cached; computing static {n}x{n} (about {:.0} steps) and its \
-         floor {m}x{m} (about {:.0}), once: then cached in {}",
+        "reference {}: computing static {n}x{n} (about {:.0} steps) and its floor {m}x{m} \
+         (about {:.0}), then cached in {}",
         crate::console::clip(&base.scene.name),
         steps[0],
         steps[1],

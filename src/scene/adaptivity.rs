@@ -62,15 +62,31 @@ pub(super) fn criteria_need_adaptivity(c: &Checker, a: &AdaptivitySpec) -> Resul
     needs_adaptivity(c, a, "criteria", "\"sizing\"", "the sizing field")
 }
 
-/// Fails when `h_min` (the shortest edge an adaptive strategy may create) is set while the
-/// strategy never edits the mesh: for a run on its own, where a forgotten `--strategy` would
-/// otherwise run the static grid silently (a study's `set` of `h_min` for every run leaves its
-/// static baseline as it is).
-pub(super) fn floor_needs_adaptivity(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
-    if a.h_min == AdaptivitySpec::default().h_min {
-        return Ok(());
+/// A note when `h_min` (the shortest edge an adaptive strategy may create) is set while the
+/// strategy never edits the mesh, which ignores it: for a run on its own, where a forgotten
+/// `--strategy` would otherwise run the static grid silently. Not an error: a study's `set` of
+/// `h_min` reaches its static runs, whose `scene.resolved.toml` keeps it and must run again.
+pub(super) fn ignored_floor(a: &AdaptivitySpec) -> Option<String> {
+    let adapts = crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh);
+    if adapts || a.h_min == AdaptivitySpec::default().h_min {
+        return None;
     }
-    needs_adaptivity(c, a, "h_min", &a.h_min.to_string(), "a refinement floor")
+    Some(format!(
+        "note: adaptivity.h_min = {} is ignored: strategy `{}` never adapts the mesh (its grid is \
+         cloth.resolution); an adaptive strategy reads it: --strategy {}",
+        a.h_min,
+        a.strategy,
+        adaptive_names().join(" | --strategy ")
+    ))
+}
+
+/// The strategies that edit the mesh, in registry order.
+fn adaptive_names() -> Vec<&'static str> {
+    crate::strategies::STRATEGIES
+        .iter()
+        .filter(|s| s.edits_mesh)
+        .map(|s| s.name)
+        .collect()
 }
 
 /// The error for `adaptivity.key = value`, which asks for `what`, when the strategy never edits
@@ -85,11 +101,7 @@ fn needs_adaptivity(
     if crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh) {
         return Ok(());
     }
-    let adaptive: Vec<&str> = crate::strategies::STRATEGIES
-        .iter()
-        .filter(|s| s.edits_mesh)
-        .map(|s| s.name)
-        .collect();
+    let adaptive = adaptive_names();
     Err(c.fail(
         &format!("adaptivity.{key}"),
         value,

@@ -96,12 +96,10 @@ impl LoadedScene {
         adaptivity::criteria_need_adaptivity(&self.checker(), &self.scene.adaptivity)
     }
 
-    /// [`LoadedScene::check_run`] for a run on its own (`adaptcloth run`): also, `h_min` needs a
-    /// strategy that adapts the mesh (a study's runs share its `set`, which may give `h_min` to
-    /// its static baseline too).
-    pub fn check_run_alone(&self) -> Result<(), SceneError> {
-        self.check_run()?;
-        adaptivity::floor_needs_adaptivity(&self.checker(), &self.scene.adaptivity)
+    /// What a run on its own (`adaptcloth run`) should be told about its scene: `h_min` set for
+    /// a strategy that never adapts ([`adaptivity::ignored_floor`]).
+    pub fn run_alone_note(&self) -> Option<String> {
+        adaptivity::ignored_floor(&self.scene.adaptivity)
     }
 
     /// Fails when `adaptivity.max_vertices` is below `start`, the vertex count of the cloth as

@@ -95,6 +95,15 @@ impl Outcome {
     }
 }
 
+/// Clears its flag when dropped: the end of a frame's write on another thread.
+struct Written<'a>(&'a AtomicBool);
+
+impl Drop for Written<'_> {
+    fn drop(&mut self) {
+        self.0.store(false, Ordering::Release);
+    }
+}
+
 /// The writes of one run's frames: hands out the [`FrameSink`] the loop submits to, and says
 /// how they went once it is done.
 #[derive(Default)]
@@ -136,8 +145,10 @@ impl FrameSink<'_, '_> {
     pub fn submit(&self, frame: Frame) {
         let outcome = &self.outcome;
         while outcome.writing.load(Ordering::Acquire) {
+            // On a pool thread, run the write here if no other thread has taken it; else wait
+            // without holding the core (a frame's write takes about a millisecond).
             if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                std::thread::yield_now();
+                std::thread::sleep(std::time::Duration::from_micros(50));
             }
         }
         if outcome.failed() {
@@ -148,8 +159,10 @@ impl FrameSink<'_, '_> {
                 outcome.writing.store(true, Ordering::Release);
                 let outcome = Arc::clone(outcome);
                 scope.spawn(move |_| {
+                    // Cleared however the write ends, a panic included (the scope then re-raises
+                    // it), so the next submit never waits for ever.
+                    let _done = Written(&outcome.writing);
                     outcome.record(&frame.path, frame.write());
-                    outcome.writing.store(false, Ordering::Release);
                 });
             }
             None => outcome.record(&frame.path, frame.write()),

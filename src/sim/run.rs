@@ -251,7 +251,11 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
                 frames += 1;
             }
             if let Some((path, e)) = writes.failure() {
-                (status, message) = write_failure(sim, &path, e);
+                (status, message) = then_failed(
+                    status,
+                    std::mem::take(&mut message),
+                    write_failure(sim, &path, e),
+                );
             }
             if last_flush.elapsed() > Duration::from_secs(2) {
                 if let Some(Err(e)) = metrics.as_mut().map(MetricsWriter::flush) {
@@ -316,11 +320,7 @@ pub fn run(sim: &mut Simulation, opts: &RunOptions) -> std::io::Result<RunSummar
     });
     // A frame written after the loop's last look may still have failed.
     if let Some((path, e)) = writes.failure() {
-        let (failed, why) = write_failure(sim, &path, e);
-        (status, message) = match status {
-            RunStatus::Completed => (failed, why),
-            _ => (status, format!("{message}; then {why}")),
-        };
+        (status, message) = then_failed(status, message, write_failure(sim, &path, e));
     }
     let frames = writes.written();
     bar.finish_and_clear();
@@ -384,6 +384,20 @@ fn warn_unconverged(sim: &Simulation, stats: &crate::physics::StepStats, out_dir
         sim.t,
         sim.unconverged_reason(stats)
     );
+}
+
+/// The status and message of a run that was at `status` with `message` when `failure` (a status
+/// and its message) happened: the failure's own when the run was going on, else the first
+/// status with both messages.
+fn then_failed(
+    status: RunStatus,
+    message: String,
+    failure: (RunStatus, String),
+) -> (RunStatus, String) {
+    match status {
+        RunStatus::Completed => failure,
+        _ => (status, format!("{message}; then {}", failure.1)),
+    }
 }
 
 /// The status and message of a run whose write of `path` failed (a full disk, no permission).

@@ -471,6 +471,20 @@ fn expand_run(run: &RunToml, index: usize, err: &Errors) -> Result<Vec<RunTempla
         (None, None) => {}
     }
     check_keys_given_once(run, index, err)?;
+    if let Some(label) = &run.label {
+        let bad = |c: char| c == ',' || c == '"' || c.is_control();
+        if label.get_ref().is_empty() || label.get_ref().chars().any(bad) {
+            return Err(err.spanned(
+                label,
+                format!(
+                    "runs[{index}].label = {:?}: expected a non-empty name without commas, \
+                     quotes or control characters (it is a column of comparison.csv and part of \
+                     a folder name)",
+                    crate::console::clip(label.get_ref())
+                ),
+            ));
+        }
+    }
     let base = run
         .label
         .as_ref()

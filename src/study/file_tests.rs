@@ -303,3 +303,22 @@ fn two_scenes_sharing_an_output_folder_are_refused() {
         assert!(!d.path().join("o").exists());
     }
 }
+
+/// A run's label is a column of comparison.csv and part of a folder name: a comma, a quote, a
+/// control character or nothing at all is refused with its line.
+#[test]
+fn a_label_that_would_break_the_table_is_refused() {
+    for label in ["fine, dense", "a\"b", "tab\there", ""] {
+        let text = format!(
+            "scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\nlabel = {}\n",
+            toml::Value::String(label.to_string())
+        );
+        let m = message(&text);
+        assert!(
+            m.contains("s.toml:4") && m.contains("without commas"),
+            "{label:?}: {m}"
+        );
+    }
+    let ok = "scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\nlabel = \"fine_dense\"\n";
+    assert!(parse(ok).is_ok());
+}

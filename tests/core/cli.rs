@@ -133,11 +133,6 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", "--set", "adaptivity.criteria=\"sizing\""],
             "strategy `static` never adapts the mesh",
         ),
-        // A refinement floor on a run that never refines: its grid is cloth.resolution.
-        (
-            vec!["run", "--set", "adaptivity.h_min=0.03"],
-            "a refinement floor needs an adaptive strategy",
-        ),
         // Values that passed validation and panicked later (issue 15, defect 1).
         (vec!["run", "--set", "cloth.size=[1.0, nan]"], "cloth.size"),
         (vec!["run", "--set", "cloth.size=[1.0, inf]"], "cloth.size"),
@@ -765,8 +760,8 @@ fn implicit_runs_on_the_dynamic_step_are_told_how_to_take_large_steps() {
     assert!(!line.contains("fixed-5"), "{line}");
 }
 
-/// A reference not in the cache is announced, with its grids and step counts, before it is
-/// computed; once cached, it is not.
+/// A reference to compute is announced, with its grids and step counts, before it is computed;
+/// once cached, it is not.
 #[test]
 fn a_reference_to_compute_is_announced_before_it_runs() {
     let dir = tempfile::tempdir().unwrap();
@@ -793,7 +788,7 @@ fn a_reference_to_compute_is_announced_before_it_runs() {
     assert_eq!(code, 0, "{err}");
     let announced = err
         .lines()
-        .position(|l| l.contains("not cached; computing static 9x9") && l.contains("floor 5x5"))
+        .position(|l| l.contains("computing static 9x9") && l.contains("floor 5x5"))
         .expect("the reference announced");
     let done = err
         .lines()
@@ -802,7 +797,7 @@ fn a_reference_to_compute_is_announced_before_it_runs() {
     assert!(announced < done, "{err}");
     let (code, err) = adaptcloth(&args);
     assert_eq!(code, 0, "{err}");
-    assert!(!err.contains("not cached"), "{err}");
+    assert!(!err.contains("computing static"), "{err}");
 }
 
 /// A study's pages are the ones `adaptcloth report` makes from its folder afterwards: made from
@@ -839,10 +834,40 @@ fn report_on_a_study_folder_rewrites_the_same_pages() {
     assert!(read("comparison.csv") == table, "comparison.csv differs");
 }
 
-/// A study-wide `h_min` reaches every run, its static baseline included, which ignores it: only
-/// a run on its own refuses `h_min` with the static strategy.
+/// A study-wide `h_min` reaches every run, its static baseline included, which ignores it; a
+/// run on its own with `h_min` and the static strategy runs, told that `h_min` is ignored, and
+/// so does its rerun line (its resolved scene keeps `h_min`).
 #[test]
 fn a_study_wide_h_min_leaves_its_static_baseline_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let alone = dir.path().join("alone");
+    let (code, err) = adaptcloth(&[
+        "run",
+        "--quiet",
+        "--duration",
+        "0.01",
+        "--set",
+        "adaptivity.h_min=0.03",
+        "--out",
+        alone.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("adaptivity.h_min = 0.03 is ignored") && err.contains("--strategy bisect48"),
+        "{err}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(alone.join("summary.json")).unwrap())
+            .unwrap();
+    let rerun = summary["rerun"].as_str().unwrap();
+    let status = Command::new("sh")
+        .arg("-c")
+        .arg(format!("{rerun} --quiet"))
+        .stderr(std::process::Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success(), "{rerun}");
+
     let dir = tempfile::tempdir().unwrap();
     let study = dir.path().join("s.toml");
     std::fs::write(
