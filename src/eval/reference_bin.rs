@@ -7,7 +7,8 @@ use crate::sim::Trajectory;
 use std::io::Read;
 use std::path::Path;
 
-const MAGIC: &[u8; 8] = b"ACREF001";
+/// The first bytes of every `reference.bin`.
+pub(super) const MAGIC: &[u8; 8] = b"ACREF001";
 
 /// Writes `reference.bin` atomically.
 pub fn write_bin(

@@ -140,10 +140,9 @@ fn header_of(
     }
 }
 
-#[test]
-fn bin_round_trip() {
-    let dir = tempfile::tempdir().unwrap();
-    let path = dir.path().join("reference.bin");
+/// Three sample points (two of them a grid) and their trajectory over `times` (s), `positions`
+/// three per frame (m), one final vertex.
+fn three_points(times: Vec<f64>, positions: Vec<[f32; 3]>) -> (SamplePoints, Trajectory) {
     let samples = SamplePoints {
         rest: vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5]],
         grid: 2,
@@ -153,11 +152,22 @@ fn bin_round_trip() {
         points: 3,
         grid: 2,
         side: 0,
-        times: vec![0.0, 0.5],
-        positions: (0..6).map(|i| [i as f32, 0.5, -1.25 * i as f32]).collect(),
+        times,
+        positions,
         final_vertices: vec![[1.0, 2.0, 3.0]],
         adapt: Default::default(),
     };
+    (samples, t)
+}
+
+#[test]
+fn bin_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("reference.bin");
+    let (samples, t) = three_points(
+        vec![0.0, 0.5],
+        (0..6).map(|i| [i as f32, 0.5, -1.25 * i as f32]).collect(),
+    );
     let header = header_of(samples, &t, ReferenceSettings::default());
     write_bin(&path, &header, &t).unwrap();
     let (h, back) = read_bin(&path).unwrap();
@@ -179,20 +189,7 @@ fn bin_round_trip() {
 fn a_reference_whose_floor_has_no_tracked_error_is_read_back() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("reference.bin");
-    let samples = SamplePoints {
-        rest: vec![[0.0, 0.0], [1.0, 0.0], [0.5, 0.5]],
-        grid: 2,
-        side: 0,
-    };
-    let t = Trajectory {
-        points: 3,
-        grid: 2,
-        side: 0,
-        times: vec![0.0],
-        positions: vec![[0.0; 3]; 3],
-        final_vertices: vec![[1.0, 2.0, 3.0]],
-        adapt: Default::default(),
-    };
+    let (samples, t) = three_points(vec![0.0], vec![[0.0; 3]; 3]);
     let mut header = header_of(samples, &t, ReferenceSettings::default());
     header.floor.tracked_err = f64::NAN;
     write_bin(&path, &header, &t).unwrap();
@@ -258,7 +255,7 @@ fn a_corrupted_reference_cache_entry_is_refused() {
         edit(&mut header);
         // Written byte for byte as `write_bin` would, whatever the header says.
         let json = serde_json::to_vec(&header).unwrap();
-        let mut bytes = MAGIC.to_vec();
+        let mut bytes = bin::MAGIC.to_vec();
         bytes.extend_from_slice(&(json.len() as u32).to_le_bytes());
         bytes.extend_from_slice(&json);
         for c in t.positions.iter().chain(&t.final_vertices).flatten() {

@@ -56,10 +56,20 @@ pub(super) fn strategy_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), Sc
 /// Fails when the criteria are the sizing field's while the strategy never edits the mesh
 /// (`static` reads no criteria).
 pub(super) fn criteria_need_adaptivity(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
-    if a.criteria != CriteriaSpec::Sizing {
+    let adapts = crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh);
+    if a.criteria != CriteriaSpec::Sizing || adapts {
         return Ok(());
     }
-    needs_adaptivity(c, a, "criteria", "\"sizing\"", "the sizing field")
+    Err(c.fail(
+        "adaptivity.criteria",
+        "\"sizing\"",
+        &format!(
+            "strategy `{}` never adapts the mesh and reads no criteria; the sizing field needs \
+             an adaptive strategy ({})",
+            a.strategy,
+            adaptive_names().join(", ")
+        ),
+    ))
 }
 
 /// A note when `h_min` (the shortest edge an adaptive strategy may create) is set while the
@@ -87,31 +97,6 @@ fn adaptive_names() -> Vec<&'static str> {
         .filter(|s| s.edits_mesh)
         .map(|s| s.name)
         .collect()
-}
-
-/// The error for `adaptivity.key = value`, which asks for `what`, when the strategy never edits
-/// the mesh; none otherwise.
-fn needs_adaptivity(
-    c: &Checker,
-    a: &AdaptivitySpec,
-    key: &str,
-    value: &str,
-    what: &str,
-) -> Result<(), SceneError> {
-    if crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh) {
-        return Ok(());
-    }
-    let adaptive = adaptive_names();
-    Err(c.fail(
-        &format!("adaptivity.{key}"),
-        value,
-        &format!(
-            "strategy `{}` never adapts the mesh and reads no criteria; {what} needs an adaptive \
-             strategy ({}; a static grid's size is cloth.resolution)",
-            a.strategy,
-            adaptive.join(", ")
-        ),
-    ))
 }
 
 /// Fails when a sizing-field key (`size_*`) holds a non-default value while the scene's criteria

@@ -731,26 +731,14 @@ fn implicit_runs_on_the_dynamic_step_are_told_how_to_take_large_steps() {
     let err = run(&["--integrator", "rk4"]);
     assert!(!err.contains(note), "{err}");
 
-    let study = dir.path().join("s.toml");
-    std::fs::write(
-        &study,
-        "name = \"s\"\ndescription = \"d\"\nscenes = [\"sphere\"]\nduration = 0.01\n\
-         [reference]\nresolution = 9\nfloor = 5\n\
-         [[runs]]\nstrategy = \"static\"\nintegrator = \"implicit_euler\"\nresolution = 5\n\
+    let args = small_study(
+        dir.path(),
+        "duration = 0.01",
+        "[[runs]]\nstrategy = \"static\"\nintegrator = \"implicit_euler\"\nresolution = 5\n\
          [[runs]]\nlabel = \"fixed\"\nstrategy = \"static\"\nintegrator = \"implicit_euler\"\n\
          resolution = 5\ndt = 0.002\n",
-    )
-    .unwrap();
-    let cache = dir.path().join("cache");
-    let (code, err) = adaptcloth(&[
-        "study",
-        study.to_str().unwrap(),
-        "--quiet",
-        "--out",
-        dir.path().join("study").to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-    ]);
+    );
+    let (code, err) = adaptcloth(&strs(&args));
     assert_eq!(code, 0, "{err}");
     let line = err
         .lines()
@@ -765,26 +753,12 @@ fn implicit_runs_on_the_dynamic_step_are_told_how_to_take_large_steps() {
 #[test]
 fn a_reference_to_compute_is_announced_before_it_runs() {
     let dir = tempfile::tempdir().unwrap();
-    let study = dir.path().join("s.toml");
-    std::fs::write(
-        &study,
-        "name = \"s\"\ndescription = \"d\"\nscenes = [\"sphere\"]\nduration = 0.01\n\
-         [reference]\nresolution = 9\nfloor = 5\n\
-         [[runs]]\nstrategy = \"static\"\nresolution = 5\n",
-    )
-    .unwrap();
-    let cache = dir.path().join("cache");
-    let out = dir.path().join("out");
-    let args = [
-        "study",
-        study.to_str().unwrap(),
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        cache.to_str().unwrap(),
-    ];
-    let (code, err) = adaptcloth(&args);
+    let args = small_study(
+        dir.path(),
+        "duration = 0.01",
+        "[[runs]]\nstrategy = \"static\"\nresolution = 5\n",
+    );
+    let (code, err) = adaptcloth(&strs(&args));
     assert_eq!(code, 0, "{err}");
     let announced = err
         .lines()
@@ -795,7 +769,7 @@ fn a_reference_to_compute_is_announced_before_it_runs() {
         .position(|l| l.starts_with("reference sphere: static 9x9"))
         .expect("the reference reported");
     assert!(announced < done, "{err}");
-    let (code, err) = adaptcloth(&args);
+    let (code, err) = adaptcloth(&strs(&args));
     assert_eq!(code, 0, "{err}");
     assert!(!err.contains("computing static"), "{err}");
 }
@@ -805,25 +779,14 @@ fn a_reference_to_compute_is_announced_before_it_runs() {
 #[test]
 fn report_on_a_study_folder_rewrites_the_same_pages() {
     let dir = tempfile::tempdir().unwrap();
-    let study = dir.path().join("s.toml");
-    std::fs::write(
-        &study,
-        "name = \"s\"\ndescription = \"d\"\nscenes = [\"sphere\"]\nduration = 0.02\n\
-         [reference]\nresolution = 9\nfloor = 5\n\
-         [[runs]]\nstrategy = \"static\"\nsweep = { \"cloth.resolution\" = [3, 5] }\n\
+    let args = small_study(
+        dir.path(),
+        "duration = 0.02",
+        "[[runs]]\nstrategy = \"static\"\nsweep = { \"cloth.resolution\" = [3, 5] }\n\
          [[runs]]\nstrategy = \"bisect48\"\nresolution = 3\n",
-    )
-    .unwrap();
+    );
     let out = dir.path().join("out");
-    let (code, err) = adaptcloth(&[
-        "study",
-        study.to_str().unwrap(),
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        dir.path().join("cache").to_str().unwrap(),
-    ]);
+    let (code, err) = adaptcloth(&strs(&args));
     assert_eq!(code, 0, "{err}");
     let folder = out.join("sphere");
     let read = |f: &str| std::fs::read(folder.join(f)).unwrap();
@@ -868,28 +831,42 @@ fn a_study_wide_h_min_leaves_its_static_baseline_alone() {
         .unwrap();
     assert!(status.success(), "{rerun}");
 
-    let dir = tempfile::tempdir().unwrap();
-    let study = dir.path().join("s.toml");
-    std::fs::write(
-        &study,
-        "name = \"s\"\ndescription = \"d\"\nscenes = [\"sphere\"]\nduration = 0.01\n\
-         set = { \"adaptivity.h_min\" = 0.03 }\n\
-         [reference]\nresolution = 9\nfloor = 5\n\
-         [[runs]]\nstrategy = \"static\"\nresolution = 5\n\
+    let args = small_study(
+        dir.path(),
+        "duration = 0.01\nset = { \"adaptivity.h_min\" = 0.03 }",
+        "[[runs]]\nstrategy = \"static\"\nresolution = 5\n\
          [[runs]]\nstrategy = \"bisect48\"\nresolution = 5\n",
-    )
-    .unwrap();
+    );
     let out = dir.path().join("out");
-    let (code, err) = adaptcloth(&[
-        "study",
-        study.to_str().unwrap(),
-        "--quiet",
-        "--out",
-        out.to_str().unwrap(),
-        "--cache",
-        dir.path().join("cache").to_str().unwrap(),
-    ]);
+    let (code, err) = adaptcloth(&strs(&args));
     assert_eq!(code, 0, "{err}");
     let table = std::fs::read_to_string(out.join("sphere/comparison.csv")).unwrap();
     assert_eq!(table.matches(",completed,").count(), 2, "{table}");
+}
+
+/// Writes `DIR/s.toml`, a study of the sphere with a 9x9 reference and a 5x5 floor, its
+/// top-level keys `top` (`duration = ...` first) and its `[[runs]]` entries `runs`; the
+/// arguments that run it quietly into `DIR/out`, its references cached in `DIR/cache`.
+fn small_study(dir: &std::path::Path, top: &str, runs: &str) -> Vec<String> {
+    let study = dir.join("s.toml");
+    let text = format!(
+        "name = \"s\"\ndescription = \"d\"\nscenes = [\"sphere\"]\n{top}\n\
+         [reference]\nresolution = 9\nfloor = 5\n{runs}"
+    );
+    std::fs::write(&study, text).unwrap();
+    let path = |p: std::path::PathBuf| p.to_str().unwrap().to_string();
+    vec![
+        "study".into(),
+        path(study),
+        "--quiet".into(),
+        "--out".into(),
+        path(dir.join("out")),
+        "--cache".into(),
+        path(dir.join("cache")),
+    ]
+}
+
+/// `args` as the string slices [`adaptcloth`] takes.
+fn strs(args: &[String]) -> Vec<&str> {
+    args.iter().map(String::as_str).collect()
 }
