@@ -11,7 +11,7 @@ use super::{AdaptParams, Criteria};
 use crate::cloth::Cloth;
 use crate::collision::{Obstacles, TOUCH_MARGINS};
 use crate::math::{Real, Vec3};
-use crate::mesh::{EdgeFaces, EdgeKey, Mesh};
+use crate::mesh::{EdgeFaces, EdgeKey, FaceId, Mesh};
 
 /// Why an edge was selected for refinement.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -85,7 +85,7 @@ pub fn vertex_normals(cloth: &Cloth) -> Vec<Vec3> {
 }
 
 /// Unit world normal of a face (zero when degenerate).
-pub fn face_normal(cloth: &Cloth, f: crate::mesh::FaceId) -> Vec3 {
+pub fn face_normal(cloth: &Cloth, f: FaceId) -> Vec3 {
     let [a, b, c] = cloth.mesh.face(f).map(|v| cloth.x[v.0 as usize]);
     let n = (b - a).cross(&(c - a));
     let len = n.norm();
@@ -161,14 +161,25 @@ pub fn select_source(
 ) -> Selection {
     let mesh = &cloth.mesh;
     let normals = vertex_normals(cloth);
-    let curved = faces_in_curved_contact(cloth, obstacles, spec);
+    let mut curved = CurvedContact::new(cloth, obstacles, spec);
     let area_scaled = AreaScaledAngle::new(spec);
     let mut refine = Vec::new();
     let mut simplify = Vec::new();
     for (e, faces) in mesh.edges() {
         let rest = mesh.rest_length(e.0, e.1);
         let (xa, xb) = (cloth.x[e.0 .0 as usize], cloth.x[e.1 .0 as usize]);
+        let (na, nb) = (normals[e.0 .0 as usize], normals[e.1 .0 as usize]);
         let can_refine = rest >= spec.refine_min_length();
+        // An edge too short to refine can only be simplified, which every criterion below must
+        // allow: the cheap conditions first, the obstacle queries last (the same verdict).
+        let may_simplify = || {
+            rest <= spec.l_max
+                && na.dot(&nb) > spec.cos_simplify
+                && old_enough(info.age(e), spec.t_simplify)
+        };
+        if !can_refine && !may_simplify() {
+            continue;
+        }
         // 1. Compression.
         if (xb - xa).norm() < spec.compression_c * rest {
             if can_refine {
@@ -177,7 +188,7 @@ pub fn select_source(
             continue;
         }
         // 2. Collision, unless the contact is flat.
-        if faces.iter().any(|f| curved[f.0 as usize]) {
+        if faces.iter().any(|f| curved.at(f)) {
             if can_refine {
                 refine.push((e, RefineReason::Collision));
             }
@@ -202,17 +213,13 @@ pub fn select_source(
             }
         }
         // 3. Curvature.
-        let (na, nb) = (normals[e.0 .0 as usize], normals[e.1 .0 as usize]);
         let angle = na.dot(&nb).clamp(-1.0, 1.0).acos();
         let limit = info.refine_angle_limit(e, area_scaled.at(mean_adjacent_area(mesh, faces)));
         if angle > limit {
             if can_refine {
                 refine.push((e, RefineReason::Curvature));
             }
-        } else if na.dot(&nb) > spec.cos_simplify
-            && rest <= spec.l_max
-            && old_enough(info.age(e), spec.t_simplify)
-        {
+        } else if may_simplify() {
             simplify.push(e);
         }
     }
@@ -224,27 +231,59 @@ pub fn select_source(
 /// [`TOUCH_MARGINS`] margins of the face where it is not flat under the face (its normal at the
 /// contact differs from the face's, or from its normals at the face's vertices, by more than
 /// `flat_contact_cos`). An obstacle tip under a large face (a bunny's ear) touches no edge; the
-/// face's edges are then refined for collision. All false in vertex mode.
-fn faces_in_curved_contact(cloth: &Cloth, obstacles: &Obstacles, spec: &AdaptParams) -> Vec<bool> {
-    let mesh = &cloth.mesh;
-    let mut curved = vec![false; mesh.face_slots()];
+/// face's edges are then refined for collision. Always false in vertex mode. Each face is
+/// queried when first asked about, once.
+struct CurvedContact<'a> {
+    cloth: &'a Cloth,
+    obstacles: &'a Obstacles,
+    spec: &'a AdaptParams,
+    /// Per face slot: `None` until asked.
+    known: Vec<Option<bool>>,
+}
+
+impl<'a> CurvedContact<'a> {
+    fn new(cloth: &'a Cloth, obstacles: &'a Obstacles, spec: &'a AdaptParams) -> Self {
+        CurvedContact {
+            cloth,
+            obstacles,
+            spec,
+            known: vec![None; cloth.mesh.face_slots()],
+        }
+    }
+
+    /// Whether live face `f` is in curved contact.
+    fn at(&mut self, f: FaceId) -> bool {
+        let slot = &mut self.known[f.0 as usize];
+        if let Some(curved) = *slot {
+            return curved;
+        }
+        let curved = face_in_curved_contact(self.cloth, self.obstacles, self.spec, f);
+        *slot = Some(curved);
+        curved
+    }
+}
+
+/// Whether live face `f` is in curved contact ([`CurvedContact`]).
+fn face_in_curved_contact(
+    cloth: &Cloth,
+    obstacles: &Obstacles,
+    spec: &AdaptParams,
+    f: FaceId,
+) -> bool {
     if !obstacles.face_contact() || obstacles.is_empty() {
-        return curved;
+        return false;
     }
     let band = TOUCH_MARGINS * obstacles.margin();
-    for f in mesh.faces() {
-        let tri = mesh.face(f).map(|v| cloth.x[v.0 as usize]);
-        let Some(hit) = obstacles.face_touch(tri, band) else {
-            continue;
-        };
-        let agrees = |n: Vec3| n.dot(&hit.normal).abs() >= spec.flat_contact_cos;
-        let flat = agrees(face_normal(cloth, f))
-            && tri.iter().all(|&p| {
-                obstacles.normal_of(hit.obstacle, p).dot(&hit.normal) >= spec.flat_contact_cos
-            });
-        curved[f.0 as usize] = !flat;
-    }
-    curved
+    let tri = cloth.mesh.face(f).map(|v| cloth.x[v.0 as usize]);
+    let Some(hit) = obstacles.face_touch(tri, band) else {
+        return false;
+    };
+    let agrees = |n: Vec3| n.dot(&hit.normal).abs() >= spec.flat_contact_cos;
+    let flat = agrees(face_normal(cloth, f))
+        && tri.iter().all(|&p| {
+            obstacles.normal_of(hit.obstacle, p).dot(&hit.normal) >= spec.flat_contact_cos
+        });
+    !flat
 }
 
 /// True when an edge of the given age may be simplified under the hysteresis `t_simplify`.

@@ -107,10 +107,11 @@ pub fn plan_region(
             },
         )?;
         let after = mean_length(&hole);
-        let border_set: BTreeSet<(usize, usize)> = constraints
+        let mut border_set: Vec<(usize, usize)> = constraints
             .iter()
             .map(|&[a, b]| (a.min(b), a.max(b)))
             .collect();
+        border_set.sort_unstable();
         let shortest_border = constraints
             .iter()
             .map(|&[a, b]| (points[b] - points[a]).norm())
@@ -119,7 +120,7 @@ pub fn plan_region(
         let too_short = hole.triangles.iter().any(|t| {
             (0..3).any(|k| {
                 let (a, b) = (t[k], t[(k + 1) % 3]);
-                !border_set.contains(&(a.min(b), a.max(b)))
+                border_set.binary_search(&(a.min(b), a.max(b))).is_err()
                     && (hole.points[a] - hole.points[b]).norm() < floor_here
             })
         });
@@ -146,10 +147,12 @@ pub fn plan_region(
         match verdict {
             Verdict::Accept => {
                 let edit = build_edit(mesh, faces, &fixed, &hole)?;
-                let stats = stats(mode, &edit, &hole, &fixed, &constraints, params, attempt);
+                let stats = stats(mode, &edit, &fixed, &constraints, attempt);
                 return Ok(Plan {
                     edit,
                     stats: RemeshStats {
+                        small_angle: small,
+                        small_angle_interior: small_interior,
                         mean_length_before: before,
                         mean_length_after: after,
                         target_length: spacing,
@@ -290,11 +293,13 @@ pub(super) fn mean_edge_length(mesh: &Mesh, faces: &BTreeSet<FaceId>) -> Real {
 
 /// Mean rest length of the distinct edges of a meshed hole (m).
 fn mean_length(hole: &HoleMesh) -> Real {
-    let edges: BTreeSet<(usize, usize)> = hole
+    let mut edges: Vec<(usize, usize)> = hole
         .triangles
         .iter()
         .flat_map(|t| (0..3).map(move |k| (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]))))
         .collect();
+    edges.sort_unstable();
+    edges.dedup();
     edges
         .iter()
         .map(|&(a, b)| (hole.points[a] - hole.points[b]).norm())
@@ -390,18 +395,14 @@ fn angle_counts(hole: &HoleMesh, n_fixed: usize, limit_deg: Real) -> (usize, usi
     (small, interior)
 }
 
-/// Counts of the planned edit.
+/// Counts of the planned edit (the angle counts and lengths are the caller's).
 fn stats(
     mode: Mode,
     edit: &Edit,
-    hole: &HoleMesh,
     fixed: &[Fixed],
     constraints: &[[usize; 2]],
-    params: &RemeshParams,
     attempts: usize,
 ) -> RemeshStats {
-    let (small_angle, small_angle_interior) =
-        angle_counts(hole, fixed.len(), params.angle_limit_deg);
     RemeshStats {
         mode,
         removed_faces: edit.remove.len(),
@@ -412,8 +413,6 @@ fn stats(
             .filter(|p| matches!(p, Fixed::Midpoint(..)))
             .count(),
         border_edges: constraints.len(),
-        small_angle,
-        small_angle_interior,
         attempts,
         ..RemeshStats::default()
     }
