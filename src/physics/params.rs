@@ -114,6 +114,11 @@ pub enum LinearSolver {
     /// window of steps after it (doubling with each such step). The default.
     #[default]
     Auto,
+    /// Conjugate gradients preconditioned by the sparse Cholesky factorisation of the matrix
+    /// without its bending couplings (their diagonal blocks kept): a sparser factor than the
+    /// whole matrix's, and bending's couplings, small next to the springs', left to a few
+    /// iterations. Cholesky of the whole matrix for a step whose CG ends above its tolerance.
+    PcgSprings,
 }
 
 /// Options of the integrators that have any; each integrator reads only its own.

@@ -9,7 +9,7 @@ use crate::testing::{built, lifted, no_forces, random_state};
 
 /// Every registered integrator by name with its default options (`implicit_euler` with the
 /// `auto` solver), then `implicit_euler` with each solver named (`implicit_euler/cg`,
-/// `implicit_euler/cholesky`): laws of the integrators hold whatever solves the implicit step.
+/// `implicit_euler/cholesky`, `implicit_euler/pcg_springs`): laws of the integrators hold whatever solves the implicit step.
 fn every_integrator() -> Vec<(String, Box<dyn Integrator>)> {
     let with = |solver| {
         let params = IntegratorParams {
@@ -26,6 +26,10 @@ fn every_integrator() -> Vec<(String, Box<dyn Integrator>)> {
             (
                 "implicit_euler/cholesky".to_string(),
                 with(LinearSolver::Cholesky),
+            ),
+            (
+                "implicit_euler/pcg_springs".to_string(),
+                with(LinearSolver::PcgSprings),
             ),
         ])
         .collect()

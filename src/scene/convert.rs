@@ -55,6 +55,7 @@ impl From<LinearSolver> for physics::LinearSolver {
             LinearSolver::Cg => physics::LinearSolver::Cg,
             LinearSolver::Cholesky => physics::LinearSolver::Cholesky,
             LinearSolver::Auto => physics::LinearSolver::Auto,
+            LinearSolver::PcgSprings => physics::LinearSolver::PcgSprings,
         }
     }
 }

@@ -283,6 +283,10 @@ pub enum LinearSolver {
     /// `sqrt(slots)` iterations open such a window too (`cholesky_switches`).
     #[default]
     Auto,
+    /// Conjugate gradients preconditioned by the sparse Cholesky factorisation of the matrix
+    /// without its bending couplings (their diagonal blocks kept), iterated to `cg_tolerance`;
+    /// a step whose CG ends above it is solved again by Cholesky (`cholesky_rescues`).
+    PcgSprings,
 }
 
 /// What a run does when a step's linear solve ends above its tolerance (`implicit_euler`).
@@ -308,7 +312,8 @@ pub struct IntegratorSpec {
     pub cg_tolerance: Real,
     /// `implicit_euler`: iteration cap of conjugate gradients per step. Default 200.
     pub cg_max_iterations: usize,
-    /// `implicit_euler`: the linear solver, `auto`, `cg` or `cholesky`. Default `auto`.
+    /// `implicit_euler`: the linear solver, `auto`, `cg`, `cholesky` or `pcg_springs`. Default
+    /// `auto`.
     pub solver: LinearSolver,
     /// `implicit_euler`: what a step whose solve ends above `cg_tolerance` does to the run:
     /// `warn` or `fail`. Default `warn`.

@@ -54,7 +54,8 @@ impl Topology {
     }
 }
 
-/// The lower-triangular pattern of `A_f` for one topology, in scalar and in block form.
+/// The lower-triangular pattern of `A_f` for one topology, in scalar and in block form, with or
+/// without the bending elements' couplings.
 #[derive(Clone, Debug, PartialEq)]
 pub(super) struct Pattern {
     /// The topology it was built for.
@@ -69,8 +70,10 @@ pub(super) struct Pattern {
     block_row: Vec<usize>,
     /// Per spring, the index of its off-diagonal block.
     spring_block: Vec<usize>,
-    /// Per bending element, the index of the block of each pair in [`BEND_PAIRS`].
-    bend_block: Vec<[usize; 6]>,
+    /// Per bending element, the index of the block of each pair in [`BEND_PAIRS`]; `None` for
+    /// a pair outside the pattern (a pattern without bending couplings), whose term goes to
+    /// the two slots' diagonal blocks instead.
+    bend_block: Vec<[Option<usize>; 6]>,
     /// Scalar column starts (`3 slots + 1` of them) and row indices, sorted within each column, in
     /// the elimination order.
     pub(super) col_ptr: Vec<usize>,
@@ -79,11 +82,14 @@ pub(super) struct Pattern {
 
 impl Pattern {
     /// The pattern of `model`'s topology, its slots in approximate-minimum-degree order (fails
-    /// only when the ordering's memory cannot be had). The vertices of each element are distinct
-    /// slots (a conforming mesh).
-    pub(super) fn new(model: &ForceModel) -> Result<Pattern, FaerError> {
+    /// only when the ordering's memory cannot be had). With `bending` false, the pattern is the
+    /// springs' alone: a bending element's coupling of two slots no spring joins (its two wings)
+    /// is left out and compensated on the diagonal by [`Pattern::fill`]. The vertices of each
+    /// element are distinct slots (a conforming mesh).
+    pub(super) fn new(model: &ForceModel, bending: bool) -> Result<Pattern, FaerError> {
         let slots = model.mass().len();
-        let (sp, bends) = (model.springs(), &model.bends().v);
+        let (sp, all_bends) = (model.springs(), &model.bends().v);
+        let bends: &[[u32; 4]] = if bending { all_bends } else { &[] };
         let coupled = |place: &dyn Fn(u32) -> usize| {
             // Every coupled pair once, as (column, row) with row > column, sorted.
             let ordered = |p: u32, q: u32| {
@@ -117,13 +123,12 @@ impl Pattern {
             let (p, q) = (position[p as usize], position[q as usize]);
             let (c, r) = (p.min(q), p.max(q));
             let rows = &block_row[block_ptr[c]..block_ptr[c + 1]];
-            block_ptr[c]
-                + rows
-                    .binary_search(&r)
-                    .expect("every element's pair is in the pattern")
+            rows.binary_search(&r).ok().map(|k| block_ptr[c] + k)
         };
-        let spring_block = (0..sp.len()).map(|j| find(sp.a[j], sp.b[j])).collect();
-        let bend_block = bends
+        let spring_block = (0..sp.len())
+            .map(|j| find(sp.a[j], sp.b[j]).expect("every spring is in the pattern"))
+            .collect();
+        let bend_block = all_bends
             .iter()
             .map(|v| BEND_PAIRS.map(|(k, l)| find(v[k], v[l])))
             .collect();
@@ -169,24 +174,35 @@ impl Pattern {
         3 * self.topology.slots
     }
 
-    /// Writes the lower triangle of `system`'s `A_f` (kg) into `values` (one per entry of
-    /// [`Pattern::row_idx`]), using `blocks` as scratch for the off-diagonal blocks. `model` must
-    /// fit the pattern ([`Pattern::fits`]) and be the one `system` was built from.
+    /// Writes into `values` (one per entry of [`Pattern::row_idx`]) the lower triangle of
+    /// `system`'s `A_f` (kg) or, for a pattern without some bending couplings, of
+    /// `P = A_f + sum w (u_k - u_l)(u_k - u_l)ᵀ` over the couplings left out: their off-diagonal
+    /// blocks cancel, the two diagonal blocks grow, so `P - A_f` is positive semi-definite and
+    /// `P` positive definite. `blocks` and `diagonal` are scratch. `model` must fit the pattern
+    /// ([`Pattern::fits`]) and be the one `system` was built from.
     pub(super) fn fill(
         &self,
         system: &System,
         model: &ForceModel,
         blocks: &mut Vec<Mat3>,
+        diagonal: &mut Vec<Mat3>,
         values: &mut Vec<Real>,
     ) {
         blocks.clear();
         blocks.resize(self.block_row.len(), Mat3::zeros());
+        diagonal.clear();
+        diagonal.extend_from_slice(&system.diag_blocks);
         for (&p, bj) in self.spring_block.iter().zip(&system.spring_blocks) {
             blocks[p] -= bj;
         }
         let bend_terms = model.bends().v.iter().zip(&self.bend_block);
         for ((ids, at), (u, &w)) in bend_terms.zip(system.bend_u.iter().zip(&system.bend_w)) {
             for (&p, &(k, l)) in at.iter().zip(&BEND_PAIRS) {
+                let Some(p) = p else {
+                    diagonal[ids[k] as usize] += u[k] * u[k].transpose() * w;
+                    diagonal[ids[l] as usize] += u[l] * u[l].transpose() * w;
+                    continue;
+                };
                 // The block at (row r, column c), r after c, is w u_r u_cᵀ.
                 let later = |k: usize, l: usize| {
                     self.position[ids[k] as usize] > self.position[ids[l] as usize]
@@ -203,7 +219,12 @@ impl Pattern {
             let slot = self.slot_at[c];
             for k in 0..3 {
                 let start = self.col_ptr[3 * c + k];
-                let diag = &system.diag_blocks[slot];
+                // A fixed slot's block is the identity's, whatever was added to it.
+                let diag = if fixed(slot) {
+                    &system.diag_blocks[slot]
+                } else {
+                    &diagonal[slot]
+                };
                 for i in k..3 {
                     values[start + i - k] = diag[(i, k)];
                 }

@@ -1,12 +1,14 @@
-//! Block-Jacobi preconditioned conjugate gradients on the filtered system, matrix-free.
+//! Preconditioned conjugate gradients on the filtered system, matrix-free.
 //!
-//! The preconditioner is the inverse of each slot's 3x3 diagonal block of `A_f`. CG starts from
-//! `dv = 0` and stops at `|r| <= tolerance |b|` (relative to the right-hand side) or at the
+//! The preconditioner ([`Preconditioner`]) is the inverse of each slot's 3x3 diagonal block of
+//! `A_f` (block Jacobi), or a factorisation of `A_f` without its bending couplings. CG starts
+//! from `dv = 0` and stops at `|r| <= tolerance |b|` (relative to the right-hand side) or at the
 //! iteration cap, keeping its last iterate either way.
 
 // Index loops over parallel per-slot arrays read clearer than zipped iterators here.
 #![allow(clippy::needless_range_loop)]
 
+use super::cholesky::Cholesky;
 use super::system::System;
 use crate::math::{Mat3, Real, Vec3};
 use crate::physics::integrator::{fit, StepStats};
@@ -15,6 +17,15 @@ use std::sync::atomic::{AtomicBool, Ordering};
 
 /// CG iterations between two looks at the interrupt flag.
 const INTERRUPT_CHECK: usize = 16;
+
+/// What CG preconditions with.
+pub(super) enum Preconditioner<'a> {
+    /// The inverse of each slot's 3x3 diagonal block of `A_f`.
+    BlockJacobi,
+    /// A factorisation of the system's matrix without its bending couplings
+    /// ([`Cholesky::factorize`] done on this system).
+    Factor(&'a mut Cholesky),
+}
 
 /// The CG solver: its stopping rule and its scratch buffers (reused across steps).
 #[derive(Clone, Debug)]
@@ -44,14 +55,16 @@ impl Cg {
     }
 
     /// Solves `A_f dv = b` of `system` (built from `model`) for `dv` (m/s, overwritten), from
-    /// `dv = 0`. Stops early, with the current iterate, once `interrupt` is set (checked every
-    /// few iterations). Reports the iterations and whether the solve ended above tolerance (at
-    /// the cap or at a breakdown; an interrupted solve is not counted as unconverged).
+    /// `dv = 0`, preconditioned by `preconditioner`. Stops early, with the current iterate, once
+    /// `interrupt` is set (checked every few iterations). Reports the iterations and whether the
+    /// solve ended above tolerance (at the cap or at a breakdown; an interrupted solve is not
+    /// counted as unconverged).
     pub(super) fn solve(
         &mut self,
         system: &System,
         model: &ForceModel,
         interrupt: Option<&AtomicBool>,
+        mut preconditioner: Preconditioner,
         dv: &mut [Vec3],
     ) -> StepStats {
         let b = &system.b;
@@ -66,16 +79,16 @@ impl Cg {
         if b_norm == 0.0 || !b_norm.is_finite() {
             return StepStats::default();
         }
-        self.precond.resize(n, Mat3::zeros());
-        for i in 0..n {
-            self.precond[i] = system.diag_blocks[i].try_inverse().unwrap_or_else(|| {
-                Mat3::identity() * (1.0 / system.diag[i].max(Real::MIN_POSITIVE))
-            });
+        if let Preconditioner::BlockJacobi = preconditioner {
+            self.precond.resize(n, Mat3::zeros());
+            for i in 0..n {
+                self.precond[i] = system.diag_blocks[i].try_inverse().unwrap_or_else(|| {
+                    Mat3::identity() * (1.0 / system.diag[i].max(Real::MIN_POSITIVE))
+                });
+            }
         }
         let stop = self.tolerance * b_norm;
-        for i in 0..n {
-            self.z[i] = self.precond[i] * self.r[i];
-        }
+        self.precondition(&mut preconditioner);
         self.p.copy_from_slice(&self.z);
         let mut rz = dot(&self.r, &self.z);
         let mut iterations = 0;
@@ -104,9 +117,7 @@ impl Cg {
                     ..StepStats::default()
                 };
             }
-            for i in 0..n {
-                self.z[i] = self.precond[i] * self.r[i];
-            }
+            self.precondition(&mut preconditioner);
             let rz_new = dot(&self.r, &self.z);
             let beta = rz_new / rz;
             rz = rz_new;
@@ -118,6 +129,18 @@ impl Cg {
             cg_iterations: iterations,
             unconverged: dot(&self.r, &self.r).sqrt() > stop,
             ..StepStats::default()
+        }
+    }
+
+    /// `z = P⁻¹ r`.
+    fn precondition(&mut self, preconditioner: &mut Preconditioner) {
+        match preconditioner {
+            Preconditioner::BlockJacobi => {
+                for ((z, p), r) in self.z.iter_mut().zip(&self.precond).zip(&self.r) {
+                    *z = p * r;
+                }
+            }
+            Preconditioner::Factor(factor) => factor.solve_factored(&self.r, &mut self.z),
         }
     }
 }

@@ -13,7 +13,8 @@ use crate::physics::ForceModel;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -33,13 +34,18 @@ struct Analysis {
     scratch: MemBuffer,
 }
 
-/// Sparse Cholesky of `A_f` with the symbolic analysis kept across steps.
-#[derive(Default)]
+/// Sparse Cholesky of `A_f`, or of `A_f` without the bending elements' couplings (their
+/// diagonal blocks kept), with the symbolic analysis kept across steps.
 pub(super) struct Cholesky {
+    /// Whether the bending elements' couplings are factorised (the whole `A_f`).
+    bending: bool,
     analysis: Option<Analysis>,
+    /// Whether `factor` holds the factorisation of the current analysis's last fill.
+    factored: bool,
     /// Symbolic analyses done so far (one per topology met).
     pub(super) analyses: u64,
     blocks: Vec<Mat3>,
+    diagonal: Vec<Mat3>,
     values: Vec<Real>,
     factor: Vec<Real>,
     rhs: Vec<Real>,
@@ -55,14 +61,46 @@ impl std::fmt::Debug for Cholesky {
 }
 
 impl Cholesky {
+    /// The factorisation of the whole `A_f` (`bending` true) or of `A_f` without the bending
+    /// elements' couplings (the preconditioner of [`super::LinearSolver::PcgSprings`]).
+    pub(super) fn new(bending: bool) -> Cholesky {
+        Cholesky {
+            bending,
+            analysis: None,
+            factored: false,
+            analyses: 0,
+            blocks: Vec::new(),
+            diagonal: Vec::new(),
+            values: Vec::new(),
+            factor: Vec::new(),
+            rhs: Vec::new(),
+        }
+    }
+
     /// Solves `A_f dv = b` of `system` (built from `model`) for `dv` (m/s, overwritten; 0 at
-    /// fixed slots). On failure `dv` is unspecified and the symbolic analysis is kept.
+    /// fixed slots); only for the whole `A_f`. On failure `dv` is unspecified and the symbolic
+    /// analysis is kept.
     pub(super) fn solve(
         &mut self,
         system: &System,
         model: &ForceModel,
         dv: &mut [Vec3],
     ) -> Result<(), DirectFailure> {
+        debug_assert!(self.bending, "a solve of the whole system");
+        self.factorize(system, model)?;
+        self.solve_factored(&system.b, dv);
+        Ok(())
+    }
+
+    /// Factorises `system`'s matrix (built from `model`; without the bending couplings unless
+    /// this factorisation has them), redoing the symbolic analysis when the topology changed.
+    /// On failure no factorisation is held and the symbolic analysis is kept.
+    pub(super) fn factorize(
+        &mut self,
+        system: &System,
+        model: &ForceModel,
+    ) -> Result<(), DirectFailure> {
+        self.factored = false;
         let Analysis {
             pattern,
             symbolic,
@@ -71,19 +109,26 @@ impl Cholesky {
             Some(a) if a.pattern.fits(model) => a,
             slot => {
                 *slot = None; // free the old analysis first
-                let fresh = slot.insert(analyse(Pattern::new(model).map_err(|_| DirectFailure)?)?);
+                let pattern = Pattern::new(model, self.bending).map_err(|_| DirectFailure)?;
+                let fresh = slot.insert(analyse(pattern)?);
                 self.analyses += 1;
                 fresh
             }
         };
-        pattern.fill(system, model, &mut self.blocks, &mut self.values);
+        pattern.fill(
+            system,
+            model,
+            &mut self.blocks,
+            &mut self.diagonal,
+            &mut self.values,
+        );
         let n = pattern.dim();
         let a_lower = SparseColMatRef::new(
             SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx),
             &self.values,
         );
         self.factor.resize(symbolic.len_val(), 0.0);
-        let llt = symbolic
+        symbolic
             .factorize_numeric_llt(
                 &mut self.factor,
                 a_lower,
@@ -94,19 +139,39 @@ impl Cholesky {
                 Default::default(),
             )
             .map_err(|_| DirectFailure)?;
+        self.factored = true;
+        Ok(())
+    }
+
+    /// Solves `A x = b` (`b` in N s, `x` in m/s, one per slot) with the matrix of the last
+    /// successful [`Cholesky::factorize`], which must have been of a model with these slots.
+    pub(super) fn solve_factored(&mut self, b: &[Vec3], x: &mut [Vec3]) {
+        let Some(Analysis {
+            pattern,
+            symbolic,
+            scratch,
+        }) = self.analysis.as_mut().filter(|_| self.factored)
+        else {
+            unreachable!("a solve after a successful factorisation");
+        };
+        let n = pattern.dim();
         self.rhs.clear();
         self.rhs.resize(n, 0.0);
-        for (i, b) in system.b.iter().enumerate() {
+        for (i, bi) in b.iter().enumerate() {
             let p = 3 * pattern.position(i);
-            self.rhs[p..p + 3].copy_from_slice(b.as_slice());
+            self.rhs[p..p + 3].copy_from_slice(bi.as_slice());
         }
         let rhs = MatMut::from_column_major_slice_mut(&mut self.rhs, n, 1);
-        llt.solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(scratch));
-        for (i, d) in dv.iter_mut().enumerate() {
+        LltRef::new(symbolic, &self.factor).solve_in_place_with_conj(
+            Conj::No,
+            rhs,
+            Par::Seq,
+            MemStack::new(scratch),
+        );
+        for (i, xi) in x.iter_mut().enumerate() {
             let p = 3 * pattern.position(i);
-            *d = Vec3::from_column_slice(&self.rhs[p..p + 3]);
+            *xi = Vec3::from_column_slice(&self.rhs[p..p + 3]);
         }
-        Ok(())
     }
 }
 

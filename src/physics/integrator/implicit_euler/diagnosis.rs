@@ -5,7 +5,7 @@
 //! of the round-table scene, so this test-only code names the scene and simulation layers.
 
 use super::assembly::Pattern;
-use super::cg::Cg;
+use super::cg::{Cg, Preconditioner};
 use super::system::System;
 use crate::math::{Real, Vec3};
 use crate::physics::{ForceModel, Forces};
@@ -46,16 +46,16 @@ fn system_of(sim: &Simulation, model: &ForceModel) -> System {
 fn iterations(system: &System, model: &ForceModel) -> usize {
     let mut dv = vec![Vec3::zeros(); system.b.len()];
     Cg::new(1e-6, 10_000)
-        .solve(system, model, None, &mut dv)
+        .solve(system, model, None, Preconditioner::BlockJacobi, &mut dv)
         .cg_iterations
 }
 
 /// Smallest and largest eigenvalue of the block-Jacobi preconditioned matrix `D^-1/2 A D^-1/2`
 /// over the free slots (`D`: the 3x3 diagonal blocks), from the assembled lower triangle.
 fn preconditioned_spectrum(system: &System, model: &ForceModel) -> (Real, Real) {
-    let pattern = Pattern::new(model).expect("memory for the ordering");
-    let (mut blocks, mut values) = (Vec::new(), Vec::new());
-    pattern.fill(system, model, &mut blocks, &mut values);
+    let pattern = Pattern::new(model, true).expect("memory for the ordering");
+    let (mut blocks, mut diagonal, mut values) = (Vec::new(), Vec::new(), Vec::new());
+    pattern.fill(system, model, &mut blocks, &mut diagonal, &mut values);
     let free: Vec<usize> = (0..model.mass().len())
         .filter(|&i| model.inv_mass()[i] != 0.0)
         .collect();

@@ -55,7 +55,7 @@ use super::{fit, Dynamics, Integrator, Step, StepStats};
 use crate::math::{Real, Vec3};
 use crate::physics::{IntegratorParams, LinearSolver};
 use assembly::Topology;
-use cg::Cg;
+use cg::{Cg, Preconditioner};
 use cholesky::Cholesky;
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -91,6 +91,8 @@ pub struct ImplicitEuler {
     system: System,
     cg: Cg,
     cholesky: Cholesky,
+    /// `pcg_springs`: the factorisation of the matrix without its bending couplings.
+    springs_factor: Cholesky,
     f: Vec<Vec3>,
     dv: Vec<Vec3>,
 }
@@ -108,7 +110,8 @@ impl ImplicitEuler {
             interrupt: None,
             system: System::default(),
             cg: Cg::new(params.cg_tolerance, params.cg_max_iterations),
-            cholesky: Cholesky::default(),
+            cholesky: Cholesky::new(true),
+            springs_factor: Cholesky::new(false),
             f: Vec::new(),
             dv: Vec::new(),
         }
@@ -177,6 +180,7 @@ impl ImplicitEuler {
         match self.solver {
             LinearSolver::Cg => self.solve_cg(model),
             LinearSolver::Cholesky => self.solve_direct(model),
+            LinearSolver::PcgSprings => self.solve_pcg_springs(model),
             LinearSolver::Auto if self.direct_steps_left > 0 => {
                 self.direct_steps_left -= 1;
                 self.solve_direct(model)
@@ -232,10 +236,41 @@ impl ImplicitEuler {
         self.slow_streak >= AUTO_SLOW_STEPS
     }
 
-    /// Solves the built system by CG from `dv = 0`.
+    /// Solves the built system by block-Jacobi CG from `dv = 0`.
     fn solve_cg(&mut self, model: &crate::physics::ForceModel) -> StepStats {
         let interrupt = self.interrupt.as_deref();
-        self.cg.solve(&self.system, model, interrupt, &mut self.dv)
+        let block_jacobi = Preconditioner::BlockJacobi;
+        self.cg
+            .solve(&self.system, model, interrupt, block_jacobi, &mut self.dv)
+    }
+
+    /// Solves the built system by CG preconditioned with the factorisation of its matrix without
+    /// the bending couplings; by block-Jacobi CG where that factorisation fails, and again by
+    /// Cholesky where the CG ends above its tolerance.
+    fn solve_pcg_springs(&mut self, model: &crate::physics::ForceModel) -> StepStats {
+        if self.springs_factor.factorize(&self.system, model).is_err() {
+            return StepStats {
+                solver_fallback: true,
+                ..self.solve_cg(model)
+            };
+        }
+        let interrupt = self.interrupt.as_deref();
+        let factor = Preconditioner::Factor(&mut self.springs_factor);
+        let pcg = self
+            .cg
+            .solve(&self.system, model, interrupt, factor, &mut self.dv);
+        if !pcg.unconverged {
+            return pcg;
+        }
+        let direct = self.solve_direct(model);
+        if direct.solver_fallback {
+            return direct;
+        }
+        StepStats {
+            cg_iterations: pcg.cg_iterations,
+            direct_rescue: true,
+            ..direct
+        }
     }
 
     /// Solves the built system by sparse Cholesky, by CG where the factorisation fails.
