@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Side-by-side timing against the fastest peer measured (the Taichi explicit cloth script), in
 # one sitting: `scenes/sphere_peer.toml` (static mesh, implicit Euler at a fixed 1/240 s, 0.6 s)
-# with each linear solver (`auto`, the default; CG; sparse Cholesky; CG preconditioned by the
-# springs' Cholesky factor, `pcg_springs`; the default thread count),
+# with each linear solver (`auto`; CG; sparse Cholesky; CG preconditioned by the springs'
+# Cholesky factor, `pcg_springs`, the default; the default thread count),
 # against the peer on two threads, at N = 17, 33 and 65. Each figure is the smallest of ROUNDS runs (default 3), the configurations
 # interleaved round by round so machine noise falls on all alike. Ours: `wall_time_s` of
 # summary.json; the peer: `wall_s` of its JSON line (its stepping loop only).

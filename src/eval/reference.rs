@@ -288,8 +288,9 @@ pub fn physics_json(scene: &Scene) -> serde_json::Value {
 
 /// `(section, key)` of the keys that came after cached references existed (issues 13 and 16):
 /// they enter [`physics_json`] only when set to a non-default value. (`solver`'s default became
-/// `auto` on 2026-11-27: a scene that names `cg`, the earlier default, now keys apart; the
-/// references run RK4, so such a reference is recomputed to the same result.)
+/// `auto` on 2026-11-27, then `pcg_springs` the same day: a scene that names `cg` or `auto`, an
+/// earlier default, now keys apart; the references run RK4, so such a reference is recomputed
+/// to the same result.)
 const LATER_KEYS: [(&str, &str); 4] = [
     ("integrator", "solver"),
     ("integrator", "on_unconverged"),

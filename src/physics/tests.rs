@@ -8,8 +8,8 @@ use crate::physics::{Forces, Material, SpringMode, StiffnessModel};
 use crate::testing::{built, lifted, no_forces, random_state};
 
 /// Every registered integrator by name with its default options (`implicit_euler` with the
-/// `auto` solver), then `implicit_euler` with each solver named (`implicit_euler/cg`,
-/// `implicit_euler/cholesky`, `implicit_euler/pcg_springs`): laws of the integrators hold whatever solves the implicit step.
+/// `pcg_springs` solver), then `implicit_euler` with each other solver named
+/// (`implicit_euler/cg`, `implicit_euler/cholesky`, `implicit_euler/auto`): laws of the integrators hold whatever solves the implicit step.
 fn every_integrator() -> Vec<(String, Box<dyn Integrator>)> {
     let with = |solver| {
         let params = IntegratorParams {
@@ -27,10 +27,7 @@ fn every_integrator() -> Vec<(String, Box<dyn Integrator>)> {
                 "implicit_euler/cholesky".to_string(),
                 with(LinearSolver::Cholesky),
             ),
-            (
-                "implicit_euler/pcg_springs".to_string(),
-                with(LinearSolver::PcgSprings),
-            ),
+            ("implicit_euler/auto".to_string(), with(LinearSolver::Auto)),
         ])
         .collect()
 }
@@ -325,8 +322,16 @@ fn free_fall_is_exact_with_rk4_and_known_with_symplectic_and_implicit_euler() {
         "rk4",
         "symplectic_euler",
         "implicit_euler",
+        "implicit_euler/cg",
         "implicit_euler/cholesky",
     ];
+    // The default solver (`pcg_springs`) is exact to its tolerance: its preconditioner is
+    // rounded to single precision, so each step's `dv` is off by at most `cg_tolerance` of the
+    // right-hand side's norm over all slots. Block-Jacobi CG and Cholesky solve `M dv = dt M g`
+    // exactly.
+    let slots = mesh.vertex_slots() as Real;
+    let cg_tolerance = IntegratorParams::default().cg_tolerance;
+    let dv_bound = cg_tolerance * slots.sqrt() * dt * g.norm();
     for (name, mut integ) in every_integrator() {
         if !cases.contains(&name.as_str()) {
             continue;
@@ -342,19 +347,28 @@ fn free_fall_is_exact_with_rk4_and_known_with_symplectic_and_implicit_euler() {
         }
         let t = n as Real * dt;
         let nf = n as Real;
+        let iterative = name == "implicit_euler";
+        let (x_slack, v_slack) = if iterative {
+            (nf * t * dv_bound, nf * dv_bound)
+        } else {
+            (0.0, 0.0)
+        };
         for (xi, x0i) in x.iter().zip(&x0) {
             let want = match name.as_str() {
                 "rk4" => x0i + v0 * t + g * (0.5 * t * t),
                 _ => x0i + v0 * t + g * (dt * dt * nf * (nf + 1.0) / 2.0),
             };
             assert!(
-                (xi - want).norm() <= 1e-12 * want.norm(),
+                (xi - want).norm() <= 1e-12 * want.norm() + x_slack,
                 "{name}: {xi} vs {want}"
             );
         }
         for vi in &v {
             let want = v0 + g * t;
-            assert!((vi - want).norm() <= 1e-12 * want.norm(), "{name}");
+            assert!(
+                (vi - want).norm() <= 1e-12 * want.norm() + v_slack,
+                "{name}"
+            );
         }
     }
 }

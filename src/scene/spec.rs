@@ -281,11 +281,12 @@ pub enum LinearSolver {
     /// summary.json), and the next 8 steps go straight to Cholesky, a window that doubles with
     /// each rescue (up to 1024 steps). 24 consecutive CG solves of one mesh above 3.5
     /// `sqrt(slots)` iterations open such a window too (`cholesky_switches`).
-    #[default]
     Auto,
-    /// Conjugate gradients preconditioned by the sparse Cholesky factorisation of the matrix
-    /// without its bending couplings (their diagonal blocks kept), iterated to `cg_tolerance`;
-    /// a step whose CG ends above it is solved again by Cholesky (`cholesky_rescues`).
+    /// Conjugate gradients preconditioned by a sparse Cholesky factorisation, in single
+    /// precision, of the matrix with the bending couplings no spring shares moved to the
+    /// diagonal (the springs' pattern, a sparser factor), iterated to `cg_tolerance`; a step
+    /// whose CG ends above it is solved again by Cholesky (`cholesky_rescues`). The default.
+    #[default]
     PcgSprings,
 }
 
@@ -312,8 +313,8 @@ pub struct IntegratorSpec {
     pub cg_tolerance: Real,
     /// `implicit_euler`: iteration cap of conjugate gradients per step. Default 200.
     pub cg_max_iterations: usize,
-    /// `implicit_euler`: the linear solver, `auto`, `cg`, `cholesky` or `pcg_springs`. Default
-    /// `auto`.
+    /// `implicit_euler`: the linear solver, `pcg_springs`, `auto`, `cg` or `cholesky`. Default
+    /// `pcg_springs`.
     pub solver: LinearSolver,
     /// `implicit_euler`: what a step whose solve ends above `cg_tolerance` does to the run:
     /// `warn` or `fail`. Default `warn`.
@@ -329,7 +330,7 @@ impl Default for IntegratorSpec {
             name: "rk4".into(),
             cg_tolerance: 1e-6,
             cg_max_iterations: 200,
-            solver: LinearSolver::Auto,
+            solver: LinearSolver::PcgSprings,
             on_unconverged: OnUnconverged::Warn,
             relaxation_passes: 4,
         }

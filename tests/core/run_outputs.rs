@@ -41,8 +41,8 @@ fn unconverged_column(out: &std::path::Path) -> Vec<u64> {
 /// Issue 13: under `solver = "cg"` a solve that stops at its cap above tolerance is counted
 /// (cumulative in metrics.csv, total in summary.json) and warned about once;
 /// `on_unconverged = "fail"` ends the run as failed with what was written so far; converged
-/// solves count nothing. Under the default `auto` the same capped solves are solved again by
-/// Cholesky: none unconverged, no warning, the rescues counted in summary.json.
+/// solves count nothing. Under `auto` the same capped solves are solved again by Cholesky: none
+/// unconverged, no warning, the rescues counted in summary.json.
 #[test]
 fn unconverged_solves_are_counted_warned_about_once_or_fail_the_run() {
     let dir = tempfile::tempdir().unwrap();
@@ -103,6 +103,7 @@ fn unconverged_solves_are_counted_warned_about_once_or_fail_the_run() {
     let (code, err) = implicit_run(
         &rescued,
         &[
+            "integrator.solver=\"auto\"",
             "integrator.cg_max_iterations=1",
             "integrator.on_unconverged=\"fail\"",
         ],

@@ -179,14 +179,15 @@ impl Pattern {
     /// `P = A_f + sum w (u_k - u_l)(u_k - u_l)ᵀ` over the couplings left out: their off-diagonal
     /// blocks cancel, the two diagonal blocks grow, so `P - A_f` is positive semi-definite and
     /// `P` positive definite. `blocks` and `diagonal` are scratch. `model` must fit the pattern
-    /// ([`Pattern::fits`]) and be the one `system` was built from.
-    pub(super) fn fill(
+    /// ([`Pattern::fits`]) and be the one `system` was built from. Values are rounded to `T`'s
+    /// precision (none for `f64`).
+    pub(super) fn fill<T: Precision>(
         &self,
         system: &System,
         model: &ForceModel,
         blocks: &mut Vec<Mat3>,
         diagonal: &mut Vec<Mat3>,
-        values: &mut Vec<Real>,
+        values: &mut Vec<T>,
     ) {
         blocks.clear();
         blocks.resize(self.block_row.len(), Mat3::zeros());
@@ -213,7 +214,7 @@ impl Pattern {
         }
         let fixed = |i: usize| model.inv_mass()[i] == 0.0;
         values.clear();
-        values.resize(self.row_idx.len(), 0.0);
+        values.resize(self.row_idx.len(), T::from_f64(0.0));
         for c in 0..self.topology.slots {
             let range = self.block_ptr[c]..self.block_ptr[c + 1];
             let slot = self.slot_at[c];
@@ -226,7 +227,7 @@ impl Pattern {
                     &diagonal[slot]
                 };
                 for i in k..3 {
-                    values[start + i - k] = diag[(i, k)];
+                    values[start + i - k] = T::from_f64(diag[(i, k)]);
                 }
                 if fixed(slot) {
                     continue; // the column of a fixed slot is the identity's
@@ -236,11 +237,38 @@ impl Pattern {
                         continue;
                     }
                     for i in 0..3 {
-                        values[start + 3 - k + 3 * q + i] = blocks[p][(i, k)];
+                        values[start + 3 - k + 3 * q + i] = T::from_f64(blocks[p][(i, k)]);
                     }
                 }
             }
         }
+    }
+}
+
+/// A floating-point type the factorisation can work in: `f64`, or `f32` for a preconditioner
+/// (half the memory to stream through per solve).
+pub(super) trait Precision: faer::traits::ComplexField + Copy {
+    /// `x` rounded to this precision.
+    fn from_f64(x: Real) -> Self;
+    /// `self` as an `f64` (exact).
+    fn to_f64(self) -> Real;
+}
+
+impl Precision for f64 {
+    fn from_f64(x: Real) -> Self {
+        x
+    }
+    fn to_f64(self) -> Real {
+        self
+    }
+}
+
+impl Precision for f32 {
+    fn from_f64(x: Real) -> Self {
+        x as f32
+    }
+    fn to_f64(self) -> Real {
+        Real::from(self)
     }
 }
 

@@ -1,4 +1,6 @@
-//! The direct solver: sparse Cholesky (`L Lᵀ`, `faer`) of the assembled filtered system.
+//! The direct solver: sparse Cholesky (`L Lᵀ`, `faer`) of the assembled filtered system, in double
+//! precision; and the preconditioner of `pcg_springs`, the same in single precision for the
+//! matrix with the bending couplings outside the springs' pattern moved to the diagonal.
 //!
 //! The symbolic analysis (the slots' approximate-minimum-degree ordering, [`Pattern::new`], and
 //! the structure of `L`) depends only on the pattern, so it is kept while the topology is
@@ -6,9 +8,9 @@
 //! mesh edit; each step then costs one numeric factorisation and two triangular solves. Sequential (`Par::Seq`), so results do not
 //! depend on a thread count. Allocation-free in steady state.
 
-use super::assembly::Pattern;
+use super::assembly::{Pattern, Precision};
 use super::system::System;
-use crate::math::{Mat3, Real, Vec3};
+use crate::math::{Mat3, Vec3};
 use crate::physics::ForceModel;
 use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
@@ -34,100 +36,38 @@ struct Analysis {
     scratch: MemBuffer,
 }
 
-/// Sparse Cholesky of `A_f`, or of `A_f` without the bending elements' couplings (their
-/// diagonal blocks kept), with the symbolic analysis kept across steps.
-pub(super) struct Cholesky {
-    /// Whether the bending elements' couplings are factorised (the whole `A_f`).
-    bending: bool,
-    analysis: Option<Analysis>,
-    /// Whether `factor` holds the factorisation of the current analysis's last fill.
-    factored: bool,
-    /// Symbolic analyses done so far (one per topology met).
-    pub(super) analyses: u64,
-    blocks: Vec<Mat3>,
-    diagonal: Vec<Mat3>,
-    values: Vec<Real>,
-    factor: Vec<Real>,
-    rhs: Vec<Real>,
+/// The numeric side in one precision: the matrix's values, its factor and a right-hand side,
+/// each reused across steps.
+#[derive(Default)]
+struct Numeric<T> {
+    values: Vec<T>,
+    factor: Vec<T>,
+    rhs: Vec<T>,
 }
 
-impl std::fmt::Debug for Cholesky {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("Cholesky")
-            .field("analyses", &self.analyses)
-            .field("factor_entries", &self.factor.len())
-            .finish_non_exhaustive()
-    }
-}
-
-impl Cholesky {
-    /// The factorisation of the whole `A_f` (`bending` true) or of `A_f` without the bending
-    /// elements' couplings (the preconditioner of [`super::LinearSolver::PcgSprings`]).
-    pub(super) fn new(bending: bool) -> Cholesky {
-        Cholesky {
-            bending,
-            analysis: None,
-            factored: false,
-            analyses: 0,
-            blocks: Vec::new(),
-            diagonal: Vec::new(),
-            values: Vec::new(),
-            factor: Vec::new(),
-            rhs: Vec::new(),
-        }
-    }
-
-    /// Solves `A_f dv = b` of `system` (built from `model`) for `dv` (m/s, overwritten; 0 at
-    /// fixed slots); only for the whole `A_f`. On failure `dv` is unspecified and the symbolic
-    /// analysis is kept.
-    pub(super) fn solve(
+impl<T: Precision> Numeric<T> {
+    /// Factorises the matrix of `system` (built from `model`) in `analysis`'s pattern; `blocks`
+    /// and `diagonal` are scratch.
+    fn factorize(
         &mut self,
+        analysis: &mut Analysis,
         system: &System,
         model: &ForceModel,
-        dv: &mut [Vec3],
+        blocks: &mut Vec<Mat3>,
+        diagonal: &mut Vec<Mat3>,
     ) -> Result<(), DirectFailure> {
-        debug_assert!(self.bending, "a solve of the whole system");
-        self.factorize(system, model)?;
-        self.solve_factored(&system.b, dv);
-        Ok(())
-    }
-
-    /// Factorises `system`'s matrix (built from `model`; without the bending couplings unless
-    /// this factorisation has them), redoing the symbolic analysis when the topology changed.
-    /// On failure no factorisation is held and the symbolic analysis is kept.
-    pub(super) fn factorize(
-        &mut self,
-        system: &System,
-        model: &ForceModel,
-    ) -> Result<(), DirectFailure> {
-        self.factored = false;
         let Analysis {
             pattern,
             symbolic,
             scratch,
-        } = match &mut self.analysis {
-            Some(a) if a.pattern.fits(model) => a,
-            slot => {
-                *slot = None; // free the old analysis first
-                let pattern = Pattern::new(model, self.bending).map_err(|_| DirectFailure)?;
-                let fresh = slot.insert(analyse(pattern)?);
-                self.analyses += 1;
-                fresh
-            }
-        };
-        pattern.fill(
-            system,
-            model,
-            &mut self.blocks,
-            &mut self.diagonal,
-            &mut self.values,
-        );
+        } = analysis;
+        pattern.fill(system, model, blocks, diagonal, &mut self.values);
         let n = pattern.dim();
         let a_lower = SparseColMatRef::new(
             SymbolicSparseColMatRef::new_checked(n, n, &pattern.col_ptr, None, &pattern.row_idx),
             &self.values,
         );
-        self.factor.resize(symbolic.len_val(), 0.0);
+        self.factor.resize(symbolic.len_val(), T::from_f64(0.0));
         symbolic
             .factorize_numeric_llt(
                 &mut self.factor,
@@ -139,27 +79,24 @@ impl Cholesky {
                 Default::default(),
             )
             .map_err(|_| DirectFailure)?;
-        self.factored = true;
         Ok(())
     }
 
-    /// Solves `A x = b` (`b` in N s, `x` in m/s, one per slot) with the matrix of the last
-    /// successful [`Cholesky::factorize`], which must have been of a model with these slots.
-    pub(super) fn solve_factored(&mut self, b: &[Vec3], x: &mut [Vec3]) {
-        let Some(Analysis {
+    /// Solves with the factor of the last successful [`Numeric::factorize`] in `analysis`.
+    fn solve(&mut self, analysis: &mut Analysis, b: &[Vec3], x: &mut [Vec3]) {
+        let Analysis {
             pattern,
             symbolic,
             scratch,
-        }) = self.analysis.as_mut().filter(|_| self.factored)
-        else {
-            unreachable!("a solve after a successful factorisation");
-        };
+        } = analysis;
         let n = pattern.dim();
         self.rhs.clear();
-        self.rhs.resize(n, 0.0);
+        self.rhs.resize(n, T::from_f64(0.0));
         for (i, bi) in b.iter().enumerate() {
             let p = 3 * pattern.position(i);
-            self.rhs[p..p + 3].copy_from_slice(bi.as_slice());
+            for k in 0..3 {
+                self.rhs[p + k] = T::from_f64(bi[k]);
+            }
         }
         let rhs = MatMut::from_column_major_slice_mut(&mut self.rhs, n, 1);
         LltRef::new(symbolic, &self.factor).solve_in_place_with_conj(
@@ -170,7 +107,118 @@ impl Cholesky {
         );
         for (i, xi) in x.iter_mut().enumerate() {
             let p = 3 * pattern.position(i);
-            *xi = Vec3::from_column_slice(&self.rhs[p..p + 3]);
+            *xi = Vec3::from_fn(|k, _| self.rhs[p + k].to_f64());
+        }
+    }
+}
+
+/// What a [`Cholesky`] factorises, and in which precision.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Factored {
+    /// The whole `A_f`, in double precision: the direct solve.
+    Whole,
+    /// `A_f` with the bending couplings outside the springs' pattern moved to the diagonal, in
+    /// single precision: the preconditioner of [`super::LinearSolver::PcgSprings`].
+    SpringsSingle,
+}
+
+/// Sparse Cholesky of `A_f`, or of the preconditioner `P` of [`Factored::SpringsSingle`], with
+/// the symbolic analysis kept across steps.
+pub(super) struct Cholesky {
+    what: Factored,
+    analysis: Option<Analysis>,
+    /// Whether the numbers hold the factorisation of the current analysis's last fill.
+    factored: bool,
+    /// Symbolic analyses done so far (one per topology met).
+    pub(super) analyses: u64,
+    blocks: Vec<Mat3>,
+    diagonal: Vec<Mat3>,
+    double: Numeric<f64>,
+    single: Numeric<f32>,
+}
+
+impl std::fmt::Debug for Cholesky {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Cholesky")
+            .field("what", &self.what)
+            .field("analyses", &self.analyses)
+            .field("factored", &self.factored)
+            .finish_non_exhaustive()
+    }
+}
+
+impl Cholesky {
+    /// A factorisation of `what`, none done yet.
+    pub(super) fn new(what: Factored) -> Cholesky {
+        Cholesky {
+            what,
+            analysis: None,
+            factored: false,
+            analyses: 0,
+            blocks: Vec::new(),
+            diagonal: Vec::new(),
+            double: Numeric::default(),
+            single: Numeric::default(),
+        }
+    }
+
+    /// Solves `A_f dv = b` of `system` (built from `model`) for `dv` (m/s, overwritten; 0 at
+    /// fixed slots); only for [`Factored::Whole`]. On failure `dv` is unspecified and the
+    /// symbolic analysis is kept.
+    pub(super) fn solve(
+        &mut self,
+        system: &System,
+        model: &ForceModel,
+        dv: &mut [Vec3],
+    ) -> Result<(), DirectFailure> {
+        debug_assert_eq!(self.what, Factored::Whole, "a solve of the whole system");
+        self.factorize(system, model)?;
+        self.solve_factored(&system.b, dv);
+        Ok(())
+    }
+
+    /// Factorises `system`'s matrix (built from `model`) as [`Factored`] says, redoing the
+    /// symbolic analysis when the topology changed. On failure no factorisation is held and the
+    /// symbolic analysis is kept.
+    pub(super) fn factorize(
+        &mut self,
+        system: &System,
+        model: &ForceModel,
+    ) -> Result<(), DirectFailure> {
+        self.factored = false;
+        let analysis = match &mut self.analysis {
+            Some(a) if a.pattern.fits(model) => a,
+            slot => {
+                *slot = None; // free the old analysis first
+                let whole = self.what == Factored::Whole;
+                let pattern = Pattern::new(model, whole).map_err(|_| DirectFailure)?;
+                let fresh = slot.insert(analyse(pattern)?);
+                self.analyses += 1;
+                fresh
+            }
+        };
+        let (blocks, diagonal) = (&mut self.blocks, &mut self.diagonal);
+        match self.what {
+            Factored::Whole => self
+                .double
+                .factorize(analysis, system, model, blocks, diagonal)?,
+            Factored::SpringsSingle => self
+                .single
+                .factorize(analysis, system, model, blocks, diagonal)?,
+        }
+        self.factored = true;
+        Ok(())
+    }
+
+    /// Solves `A x = b` (`b` in N s, `x` in m/s, one per slot) with the matrix of the last
+    /// successful [`Cholesky::factorize`], which must have been of a model with these slots.
+    pub(super) fn solve_factored(&mut self, b: &[Vec3], x: &mut [Vec3]) {
+        let Some(analysis) = self.analysis.as_mut().filter(|_| self.factored) else {
+            unreachable!("a solve after a successful factorisation");
+        };
+        match self.what {
+            Factored::Whole => self.double.solve(analysis, b, x),
+            Factored::SpringsSingle => self.single.solve(analysis, b, x),
         }
     }
 }
@@ -196,10 +244,13 @@ fn analyse(pattern: Pattern) -> Result<Analysis, DirectFailure> {
         },
     )
     .map_err(|_| DirectFailure)?;
-    let need = StackReq::or(
-        symbolic.factorize_numeric_llt_scratch::<Real>(Par::Seq, Default::default()),
-        symbolic.solve_in_place_scratch::<Real>(1, Par::Seq),
-    );
+    // Enough for either precision.
+    let need = StackReq::any_of(&[
+        symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
+        symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
+        symbolic.factorize_numeric_llt_scratch::<f32>(Par::Seq, Default::default()),
+        symbolic.solve_in_place_scratch::<f32>(1, Par::Seq),
+    ]);
     let scratch = MemBuffer::try_new(need).map_err(|_| DirectFailure)?;
     Ok(Analysis {
         pattern,

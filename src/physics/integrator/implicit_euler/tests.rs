@@ -3,7 +3,7 @@
 //! rescues, switches and windows, the interrupt.
 
 use super::cg::{Cg, Preconditioner};
-use super::cholesky::Cholesky;
+use super::cholesky::{Cholesky, Factored};
 use super::system::System;
 use super::{ImplicitEuler, AUTO_FIRST_WINDOW, AUTO_SLOW_ITERATIONS, AUTO_SLOW_STEPS};
 use crate::math::{Real, Vec3};
@@ -81,7 +81,7 @@ fn cholesky_and_cg_give_the_same_velocity_change() {
         let mut system = System::default();
         system.build(&model, dt, &x, &v, &f);
         let mut direct = vec![Vec3::zeros(); x.len()];
-        Cholesky::new(true)
+        Cholesky::new(Factored::Whole)
             .solve(&system, &model, &mut direct)
             .expect("positive definite");
         let mut q = vec![Vec3::zeros(); x.len()];
@@ -127,11 +127,11 @@ fn cg_preconditioned_by_the_springs_factor_solves_the_whole_system() {
         let mut system = System::default();
         system.build(&model, dt, &x, &v, &f);
         let mut direct = vec![Vec3::zeros(); x.len()];
-        Cholesky::new(true)
+        Cholesky::new(Factored::Whole)
             .solve(&system, &model, &mut direct)
             .expect("positive definite");
         let tolerance = 1e-10;
-        let mut factor = Cholesky::new(false);
+        let mut factor = Cholesky::new(Factored::SpringsSingle);
         factor
             .factorize(&system, &model)
             .expect("positive definite");
