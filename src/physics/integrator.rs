@@ -71,12 +71,13 @@ pub struct StepStats {
     /// at their iteration cap (or broke down) first. The step was taken with the last iterate.
     /// False for a solve cut short by an interrupt (the run stops after that step anyway).
     pub unconverged: bool,
-    /// True when the direct solver (`integrator.solver = "cholesky"` or `"auto"`) failed on the
-    /// step (the matrix was not numerically positive definite) and conjugate gradients solved it
-    /// instead.
+    /// True when a factorisation failed on the step (the matrix was not numerically positive
+    /// definite): `integrator.solver = "cholesky"` or `"auto"`, whose direct solve then falls
+    /// back to conjugate gradients; `"pcg_springs"`, whose preconditioner's failure sends the
+    /// step to the whole Cholesky (and to conjugate gradients if that fails too).
     pub solver_fallback: bool,
     /// True when conjugate gradients ended above their tolerance and sparse Cholesky solved the
-    /// step again (`integrator.solver = "auto"`); `cg_iterations` are CG's.
+    /// step again (`integrator.solver = "auto"` or `"pcg_springs"`); `cg_iterations` are CG's.
     pub direct_rescue: bool,
     /// True when conjugate gradients converged but slowly for the run of steps after which
     /// `integrator.solver = "auto"` solves the next steps by sparse Cholesky.

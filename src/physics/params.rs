@@ -116,8 +116,9 @@ pub enum LinearSolver {
     /// Conjugate gradients preconditioned by a sparse Cholesky factorisation, in single
     /// precision, of the matrix with the bending couplings no spring shares (a bending
     /// element's two wings) moved to the diagonal: the springs' pattern, a sparser factor than
-    /// the whole matrix's, and those couplings left to a few iterations (3 to 9 a step on the
-    /// source scenes). Cholesky of the whole matrix for a step whose CG ends above its tolerance.
+    /// the whole matrix's, and those couplings left to a few iterations (3 to 6 a step on
+    /// average on the results' runs, 10 at most). Cholesky of the whole matrix for a step whose
+    /// CG ends above its tolerance, or whose preconditioner's factorisation fails.
     /// The default.
     #[default]
     PcgSprings,

@@ -285,7 +285,9 @@ pub enum LinearSolver {
     /// Conjugate gradients preconditioned by a sparse Cholesky factorisation, in single
     /// precision, of the matrix with the bending couplings no spring shares moved to the
     /// diagonal (the springs' pattern, a sparser factor), iterated to `cg_tolerance`; a step
-    /// whose CG ends above it is solved again by Cholesky (`cholesky_rescues`). The default.
+    /// whose CG ends above it is solved again by Cholesky (`cholesky_rescues`), and one whose
+    /// preconditioner cannot be factorised by Cholesky at once (`solver_fallbacks`). The
+    /// default.
     #[default]
     PcgSprings,
 }

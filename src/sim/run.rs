@@ -134,11 +134,11 @@ pub struct RunSummary {
     pub max_self_intersections: usize,
     /// Steps whose linear solve ended above its tolerance (`implicit_euler`; 0 otherwise).
     pub cg_unconverged: u64,
-    /// Steps whose direct solve failed and were solved by CG (`integrator.solver = "cholesky"`
-    /// or `"auto"`).
+    /// Steps with a failed factorisation ([`crate::physics::StepStats::solver_fallback`]:
+    /// `integrator.solver = "cholesky"`, `"auto"` or `"pcg_springs"`).
     pub solver_fallbacks: u64,
     /// Steps whose CG ended above its tolerance and that Cholesky solved again
-    /// (`integrator.solver = "auto"`).
+    /// (`integrator.solver = "auto"` or `"pcg_springs"`).
     pub cholesky_rescues: u64,
     /// Windows of steps that `integrator.solver = "auto"` solved by Cholesky because CG had
     /// converged slowly (more than 3.5 `sqrt(slots)` iterations on 24 consecutive steps of one

@@ -128,10 +128,14 @@ impl Pattern {
         let spring_block = (0..sp.len())
             .map(|j| find(sp.a[j], sp.b[j]).expect("every spring is in the pattern"))
             .collect();
-        let bend_block = all_bends
+        let bend_block: Vec<[Option<usize>; 6]> = all_bends
             .iter()
             .map(|v| BEND_PAIRS.map(|(k, l)| find(v[k], v[l])))
             .collect();
+        debug_assert!(
+            !bending || bend_block.iter().flatten().all(Option::is_some),
+            "the whole pattern holds every bending pair"
+        );
         // Scalar column 3c + k: the diagonal block's rows 3c + k..3c + 3, then three rows per
         // off-diagonal block of column c.
         let mut col_ptr = Vec::with_capacity(3 * slots + 1);
@@ -176,9 +180,10 @@ impl Pattern {
 
     /// Writes into `values` (one per entry of [`Pattern::row_idx`]) the lower triangle of
     /// `system`'s `A_f` (kg) or, for a pattern without some bending couplings, of
-    /// `P = A_f + sum w (u_k - u_l)(u_k - u_l)ᵀ` over the couplings left out: their off-diagonal
-    /// blocks cancel, the two diagonal blocks grow, so `P - A_f` is positive semi-definite and
-    /// `P` positive definite. `blocks` and `diagonal` are scratch. `model` must fit the pattern
+    /// `P = A_f + sum w s sᵀ` over the couplings `(k, l)` left out, `s` the 3n-vector holding
+    /// `u_k` at slot `k` and `-u_l` at slot `l` (zero at a fixed slot): their off-diagonal
+    /// blocks cancel, the two diagonal blocks grow by `w u_k u_kᵀ` and `w u_l u_lᵀ`, so `P - A_f`
+    /// is positive semi-definite and `P` positive definite. `blocks` and `diagonal` are scratch. `model` must fit the pattern
     /// ([`Pattern::fits`]) and be the one `system` was built from. Values are rounded to `T`'s
     /// precision (none for `f64`).
     pub(super) fn fill<T: Precision>(

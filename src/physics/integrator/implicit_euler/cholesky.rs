@@ -5,7 +5,8 @@
 //! The symbolic analysis (the slots' approximate-minimum-degree ordering, [`Pattern::new`], and
 //! the structure of `L`) depends only on the pattern, so it is kept while the topology is
 //! unchanged (same slots, springs and bending elements as the previous step) and redone after a
-//! mesh edit; each step then costs one numeric factorisation and two triangular solves. Sequential (`Par::Seq`), so results do not
+//! mesh edit; each step then costs one numeric factorisation and, per solve (one for the direct
+//! solver, one per CG iteration for the preconditioner), two triangular solves. Sequential (`Par::Seq`), so results do not
 //! depend on a thread count. Allocation-free in steady state.
 
 use super::assembly::{Pattern, Precision};
@@ -171,7 +172,7 @@ impl Cholesky {
         model: &ForceModel,
         dv: &mut [Vec3],
     ) -> Result<(), DirectFailure> {
-        debug_assert_eq!(self.what, Factored::Whole, "a solve of the whole system");
+        assert_eq!(self.what, Factored::Whole, "a solve of the whole system");
         self.factorize(system, model)?;
         self.solve_factored(&system.b, dv);
         Ok(())

@@ -22,11 +22,14 @@
 //!   there.
 //! - Solver (`integrator.solver`, [`LinearSolver`]): `pcg_springs` (the default) is conjugate
 //!   gradients preconditioned by the sparse Cholesky factor ([`cholesky`], single precision) of
-//!   `P = A_f + sum w (u_k - u_l)(u_k - u_l)ᵀ` over the bending couplings `(k, l)` no spring
-//!   shares (each element's two wings): `P` has the springs' pattern, whose factor costs a
-//!   third of the whole matrix's at 4,225 vertices, and `P - A_f` is positive semi-definite, so
-//!   `P` is positive definite and CG converges in a few iterations (3 to 9 a step on the source
-//!   scenes); a step whose CG ends above its tolerance is solved again by Cholesky.
+//!   `P = A_f + sum w s sᵀ`, the sum over the bending couplings `(k, l)` no spring shares (each
+//!   element's two wings), `s` the 3n-vector holding `u_k` at slot `k` and `-u_l` at slot `l`
+//!   (zero at a fixed slot, as the filter wants): `P` has the springs' pattern, whose factor
+//!   costs a third of the whole matrix's at 4,225 vertices, and `P - A_f` is positive
+//!   semi-definite, so `P` is positive definite and CG converges in a few iterations (3 to 6 a
+//!   step on average on the results' runs, 10 at most); a step whose CG ends above its
+//!   tolerance is solved again by Cholesky, and one whose factorisation of `P` fails by
+//!   Cholesky at once.
 //!   `cg` ([`cg`]) is matrix-free preconditioned
 //!   conjugate gradients with the block-Jacobi preconditioner, from `dv = 0`, stopping at
 //!   `|r| <= tolerance |b|` or the iteration cap (the step is then taken with the last iterate and
@@ -251,14 +254,15 @@ impl ImplicitEuler {
             .solve(&self.system, model, interrupt, block_jacobi, &mut self.dv)
     }
 
-    /// Solves the built system by CG preconditioned with the factorisation of its matrix without
-    /// the bending couplings; by block-Jacobi CG where that factorisation fails, and again by
+    /// Solves the built system by CG preconditioned with the springs' factor; where that
+    /// factorisation fails (a single-precision pivot), by the whole Cholesky in double precision
+    /// (itself by block-Jacobi CG if it fails too), counted as a fallback; again by the whole
     /// Cholesky where the CG ends above its tolerance.
     fn solve_pcg_springs(&mut self, model: &crate::physics::ForceModel) -> StepStats {
         if self.springs_factor.factorize(&self.system, model).is_err() {
             return StepStats {
                 solver_fallback: true,
-                ..self.solve_cg(model)
+                ..self.solve_direct(model)
             };
         }
         let interrupt = self.interrupt.as_deref();

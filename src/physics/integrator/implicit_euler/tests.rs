@@ -241,21 +241,84 @@ fn a_failed_factorisation_falls_back_to_cg() {
     );
 }
 
-/// An interrupt ends the CG loop of a long `implicit_euler` step within 16 iterations.
+/// An interrupt ends the CG loop of a long `implicit_euler` step within 16 iterations, whichever
+/// preconditioner; an interrupted solve is neither unconverged nor rescued.
 #[test]
 fn implicit_euler_stops_its_cg_loop_when_interrupted() {
-    let (model, mut x, mut v, dt) = stiff_sheet(SpringMode::Tension);
-    let params = IntegratorParams {
-        solver: LinearSolver::Auto,
-        cg_tolerance: 1e-300,
-        cg_max_iterations: 10_000,
-        ..Default::default()
+    for solver in [LinearSolver::Auto, LinearSolver::PcgSprings] {
+        let (model, mut x, mut v, dt) = stiff_sheet(SpringMode::Tension);
+        let params = IntegratorParams {
+            solver,
+            cg_tolerance: 1e-300,
+            cg_max_iterations: 10_000,
+            ..Default::default()
+        };
+        let mut integ = ImplicitEuler::new(&params);
+        integ.set_interrupt(std::sync::Arc::new(true.into()));
+        let stats = integ.step(&model, 0.0, dt, &mut x, &mut v);
+        assert!(
+            stats.cg_iterations < 16 && !stats.unconverged && !stats.direct_rescue,
+            "{solver:?}: {stats:?}"
+        );
+    }
+}
+
+/// `pcg_springs` whose CG stops at its cap (one iteration to 1e-14 on the stiff sheet) has the step solved
+/// again by Cholesky: converged, counted as a rescue with CG's iterations, and where Cholesky's
+/// own step lands; where its preconditioner cannot be factorised (a spring of negative
+/// stiffness), the whole Cholesky is tried at once, and CG after it when that fails too.
+#[test]
+fn pcg_springs_is_rescued_by_cholesky_and_falls_back_to_it() {
+    let (model, x0, v0, dt) = stiff_sheet(SpringMode::Tension);
+    let capped = |solver| {
+        ImplicitEuler::new(&IntegratorParams {
+            solver,
+            cg_tolerance: 1e-14,
+            cg_max_iterations: 1,
+            ..IntegratorParams::default()
+        })
     };
-    let mut integ = ImplicitEuler::new(&params);
-    integ.set_interrupt(std::sync::Arc::new(true.into()));
-    let stats = integ.step(&model, 0.0, dt, &mut x, &mut v);
+    let (mut xp, mut vp) = (x0.clone(), v0.clone());
+    let (mut xd, mut vd) = (x0, v0);
+    let (mut pcg, mut direct) = (
+        capped(LinearSolver::PcgSprings),
+        capped(LinearSolver::Cholesky),
+    );
+    for k in 0..3 {
+        let t = k as Real * dt;
+        let stats = pcg.step(&model, t, dt, &mut xp, &mut vp);
+        assert!(
+            stats.direct_rescue
+                && stats.cg_iterations == 1
+                && !stats.unconverged
+                && !stats.solver_fallback,
+            "{stats:?}"
+        );
+        direct.step(&model, t, dt, &mut xd, &mut vd);
+    }
+    assert_eq!(xp, xd, "the rescued steps are Cholesky's");
+
+    let material = Material {
+        springs: SpringMode::Both,
+        ..Material::default()
+    };
+    let forces = Forces {
+        springs: true,
+        ..Forces::default()
+    };
+    let springs = Springs {
+        a: vec![0],
+        b: vec![1],
+        rest_length: vec![1.0],
+        k: vec![-1e6],
+        kd: vec![0.0],
+    };
+    let model = ForceModel::from_parts(&material, &forces, vec![1.0, 1.0], &[false; 2], springs);
+    let mut x = vec![Vec3::zeros(), Vec3::new(1.5, 0.0, 0.0)];
+    let mut v = vec![Vec3::zeros(); 2];
+    let stats = implicit(LinearSolver::PcgSprings).step(&model, 0.0, 0.1, &mut x, &mut v);
     assert!(
-        stats.cg_iterations < 16 && !stats.unconverged && !stats.direct_rescue,
+        stats.solver_fallback && stats.cg_iterations > 0 && !stats.direct_rescue,
         "{stats:?}"
     );
 }
