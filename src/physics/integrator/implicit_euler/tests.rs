@@ -42,6 +42,29 @@ fn stiff_sheet(springs: SpringMode) -> (ForceModel, Vec<Vec3>, Vec<Vec3>, Real) 
     (model, x, v, dt)
 }
 
+/// Two particles joined by a spring of negative stiffness, stretched: a matrix no Cholesky
+/// factorisation accepts.
+fn negative_spring() -> (ForceModel, Vec<Vec3>, Vec<Vec3>) {
+    let material = Material {
+        springs: SpringMode::Both,
+        ..Material::default()
+    };
+    let forces = Forces {
+        springs: true,
+        ..Forces::default()
+    };
+    let springs = Springs {
+        a: vec![0],
+        b: vec![1],
+        rest_length: vec![1.0],
+        k: vec![-1e6],
+        kd: vec![0.0],
+    };
+    let model = ForceModel::from_parts(&material, &forces, vec![1.0, 1.0], &[false; 2], springs);
+    let x = vec![Vec3::zeros(), Vec3::new(1.5, 0.0, 0.0)];
+    (model, x, vec![Vec3::zeros(); 2])
+}
+
 fn norm(a: &[Vec3]) -> Real {
     a.iter().map(|p| p.norm_squared()).sum::<Real>().sqrt()
 }
@@ -207,24 +230,7 @@ fn cholesky_keeps_its_symbolic_analysis_until_the_topology_changes() {
 /// `cholesky` and under `auto` alike.
 #[test]
 fn a_failed_factorisation_falls_back_to_cg() {
-    let material = Material {
-        springs: SpringMode::Both,
-        ..Material::default()
-    };
-    let forces = Forces {
-        springs: true,
-        ..Forces::default()
-    };
-    let springs = Springs {
-        a: vec![0],
-        b: vec![1],
-        rest_length: vec![1.0],
-        k: vec![-1e6],
-        kd: vec![0.0],
-    };
-    let model = ForceModel::from_parts(&material, &forces, vec![1.0, 1.0], &[false; 2], springs);
-    let mut x = vec![Vec3::zeros(), Vec3::new(1.5, 0.0, 0.0)];
-    let mut v = vec![Vec3::zeros(); 2];
+    let (model, mut x, mut v) = negative_spring();
     let (x0, v0) = (x.clone(), v.clone());
     let stats = implicit(LinearSolver::Cholesky).step(&model, 0.0, 0.1, &mut x, &mut v);
     assert!(
@@ -298,24 +304,7 @@ fn pcg_springs_is_rescued_by_cholesky_and_falls_back_to_it() {
     }
     assert_eq!(xp, xd, "the rescued steps are Cholesky's");
 
-    let material = Material {
-        springs: SpringMode::Both,
-        ..Material::default()
-    };
-    let forces = Forces {
-        springs: true,
-        ..Forces::default()
-    };
-    let springs = Springs {
-        a: vec![0],
-        b: vec![1],
-        rest_length: vec![1.0],
-        k: vec![-1e6],
-        kd: vec![0.0],
-    };
-    let model = ForceModel::from_parts(&material, &forces, vec![1.0, 1.0], &[false; 2], springs);
-    let mut x = vec![Vec3::zeros(), Vec3::new(1.5, 0.0, 0.0)];
-    let mut v = vec![Vec3::zeros(); 2];
+    let (model, mut x, mut v) = negative_spring();
     let stats = implicit(LinearSolver::PcgSprings).step(&model, 0.0, 0.1, &mut x, &mut v);
     assert!(
         stats.solver_fallback && stats.cg_iterations > 0 && !stats.direct_rescue,
