@@ -177,7 +177,9 @@ pub fn select_source(
                 && na.dot(&nb) > spec.cos_simplify
                 && old_enough(info.age(e), spec.t_simplify)
         };
-        if !can_refine && !may_simplify() {
+        // Known up front for an edge too short to refine, asked at the end otherwise.
+        let simplifiable = (!can_refine).then(may_simplify);
+        if simplifiable == Some(false) {
             continue;
         }
         // 1. Compression.
@@ -219,7 +221,7 @@ pub fn select_source(
             if can_refine {
                 refine.push((e, RefineReason::Curvature));
             }
-        } else if may_simplify() {
+        } else if simplifiable.unwrap_or_else(may_simplify) {
             simplify.push(e);
         }
     }

@@ -20,7 +20,7 @@ use faer::sparse::linalg::cholesky::{
     SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, MatMut, Par, Side};
 
 /// The direct solve of a step failed: the matrix is not numerically positive definite (a
@@ -126,7 +126,6 @@ pub(super) enum Factored {
 /// Sparse Cholesky of `A_f`, or of the preconditioner `P` of [`Factored::SpringsSingle`], with
 /// the symbolic analysis kept across steps.
 pub(super) struct Cholesky {
-    what: Factored,
     analysis: Option<Analysis>,
     /// Whether the numbers hold the factorisation of the current analysis's last fill.
     factored: bool,
@@ -134,14 +133,21 @@ pub(super) struct Cholesky {
     pub(super) analyses: u64,
     blocks: Vec<Mat3>,
     diagonal: Vec<Mat3>,
-    double: Numeric<f64>,
-    single: Numeric<f32>,
+    numbers: Numbers,
+}
+
+/// The numeric side of a [`Cholesky`], in the precision of what it factorises.
+enum Numbers {
+    /// [`Factored::Whole`].
+    Whole(Numeric<f64>),
+    /// [`Factored::SpringsSingle`].
+    SpringsSingle(Numeric<f32>),
 }
 
 impl std::fmt::Debug for Cholesky {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Cholesky")
-            .field("what", &self.what)
+            .field("what", &self.what())
             .field("analyses", &self.analyses)
             .field("factored", &self.factored)
             .finish_non_exhaustive()
@@ -152,14 +158,23 @@ impl Cholesky {
     /// A factorisation of `what`, none done yet.
     pub(super) fn new(what: Factored) -> Cholesky {
         Cholesky {
-            what,
             analysis: None,
             factored: false,
             analyses: 0,
             blocks: Vec::new(),
             diagonal: Vec::new(),
-            double: Numeric::default(),
-            single: Numeric::default(),
+            numbers: match what {
+                Factored::Whole => Numbers::Whole(Numeric::default()),
+                Factored::SpringsSingle => Numbers::SpringsSingle(Numeric::default()),
+            },
+        }
+    }
+
+    /// What this factorises.
+    fn what(&self) -> Factored {
+        match self.numbers {
+            Numbers::Whole(_) => Factored::Whole,
+            Numbers::SpringsSingle(_) => Factored::SpringsSingle,
         }
     }
 
@@ -172,7 +187,7 @@ impl Cholesky {
         model: &ForceModel,
         dv: &mut [Vec3],
     ) -> Result<(), DirectFailure> {
-        assert_eq!(self.what, Factored::Whole, "a solve of the whole system");
+        assert_eq!(self.what(), Factored::Whole, "a solve of the whole system");
         self.factorize(system, model)?;
         self.solve_factored(&system.b, dv);
         Ok(())
@@ -191,21 +206,18 @@ impl Cholesky {
             Some(a) if a.pattern.fits(model) => a,
             slot => {
                 *slot = None; // free the old analysis first
-                let whole = self.what == Factored::Whole;
-                let pattern = Pattern::new(model, whole).map_err(|_| DirectFailure)?;
-                let fresh = slot.insert(analyse(pattern)?);
+                let fresh = slot.insert(match &self.numbers {
+                    Numbers::Whole(_) => analyse::<f64>(Pattern::new(model, true)),
+                    Numbers::SpringsSingle(_) => analyse::<f32>(Pattern::new(model, false)),
+                }?);
                 self.analyses += 1;
                 fresh
             }
         };
         let (blocks, diagonal) = (&mut self.blocks, &mut self.diagonal);
-        match self.what {
-            Factored::Whole => self
-                .double
-                .factorize(analysis, system, model, blocks, diagonal)?,
-            Factored::SpringsSingle => self
-                .single
-                .factorize(analysis, system, model, blocks, diagonal)?,
+        match &mut self.numbers {
+            Numbers::Whole(n) => n.factorize(analysis, system, model, blocks, diagonal)?,
+            Numbers::SpringsSingle(n) => n.factorize(analysis, system, model, blocks, diagonal)?,
         }
         self.factored = true;
         Ok(())
@@ -217,16 +229,18 @@ impl Cholesky {
         let Some(analysis) = self.analysis.as_mut().filter(|_| self.factored) else {
             unreachable!("a solve after a successful factorisation");
         };
-        match self.what {
-            Factored::Whole => self.double.solve(analysis, b, x),
-            Factored::SpringsSingle => self.single.solve(analysis, b, x),
+        match &mut self.numbers {
+            Numbers::Whole(n) => n.solve(analysis, b, x),
+            Numbers::SpringsSingle(n) => n.solve(analysis, b, x),
         }
     }
 }
 
 /// The symbolic analysis of `pattern` (lower triangle, already in elimination order,
-/// supernodal) and its scratch memory.
-fn analyse(pattern: Pattern) -> Result<Analysis, DirectFailure> {
+/// supernodal; a pattern that could not be built fails) and its scratch memory for solving in
+/// precision `T`.
+fn analyse<T: Precision>(pattern: Result<Pattern, FaerError>) -> Result<Analysis, DirectFailure> {
+    let pattern = pattern.map_err(|_| DirectFailure)?;
     let n = pattern.dim();
     // Without an ordering of its own, faer's symbolic analysis reads the upper triangle.
     let (upper_ptr, upper_row) = transpose(n, &pattern.col_ptr, &pattern.row_idx);
@@ -245,13 +259,10 @@ fn analyse(pattern: Pattern) -> Result<Analysis, DirectFailure> {
         },
     )
     .map_err(|_| DirectFailure)?;
-    // Enough for either precision.
-    let need = StackReq::any_of(&[
-        symbolic.factorize_numeric_llt_scratch::<f64>(Par::Seq, Default::default()),
-        symbolic.solve_in_place_scratch::<f64>(1, Par::Seq),
-        symbolic.factorize_numeric_llt_scratch::<f32>(Par::Seq, Default::default()),
-        symbolic.solve_in_place_scratch::<f32>(1, Par::Seq),
-    ]);
+    let need = StackReq::or(
+        symbolic.factorize_numeric_llt_scratch::<T>(Par::Seq, Default::default()),
+        symbolic.solve_in_place_scratch::<T>(1, Par::Seq),
+    );
     let scratch = MemBuffer::try_new(need).map_err(|_| DirectFailure)?;
     Ok(Analysis {
         pattern,

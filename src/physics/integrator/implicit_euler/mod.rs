@@ -206,16 +206,7 @@ impl ImplicitEuler {
                 }
                 self.slow_streak = 0;
                 self.open_direct_window();
-                let direct = self.solve_direct(model);
-                if direct.solver_fallback {
-                    // The factorisation failed too: the step is CG's again, unconverged.
-                    return direct;
-                }
-                StepStats {
-                    cg_iterations: cg.cg_iterations,
-                    direct_rescue: true,
-                    ..direct
-                }
+                self.rescue(model, cg)
             }
         }
     }
@@ -273,12 +264,19 @@ impl ImplicitEuler {
         if !pcg.unconverged {
             return pcg;
         }
+        self.rescue(model, pcg)
+    }
+
+    /// Solves again by Cholesky a step whose CG (`cg`, its stats) ended above its tolerance: a
+    /// rescue with CG's iterations, or, where the factorisation fails too, the fallback's own
+    /// (unconverged) CG step.
+    fn rescue(&mut self, model: &crate::physics::ForceModel, cg: StepStats) -> StepStats {
         let direct = self.solve_direct(model);
         if direct.solver_fallback {
             return direct;
         }
         StepStats {
-            cg_iterations: pcg.cg_iterations,
+            cg_iterations: cg.cg_iterations,
             direct_rescue: true,
             ..direct
         }
