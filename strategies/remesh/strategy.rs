@@ -1,8 +1,9 @@
 //! The [`Adaptivity`] implementation of local remeshing (MODEL.md §8.2) and its per-edge
 //! bookkeeping: the time each edge was made by a refinement, for the simplification hysteresis
-//! (`t_simplify`) and the 10 % smoothing rule of the shared criteria, and the energy law's last
-//! refusal of a region holding it (such an edge waits until the region's motion could pay the
-//! refused gain, or for a time that doubles with each refusal).
+//! (`t_simplify`) and the 10 % smoothing rule of the shared criteria, and the last refusal of a
+//! region holding it: by the energy law (such an edge waits until the region's motion could pay
+//! the refused gain, or for a time that doubles with each refusal) or by the mesher when
+//! coarsening (such an edge waits that time before it is coarsened again).
 
 use super::{components, region_faces, remesh_region, Mode, RemeshError, RemeshParams};
 use crate::adapt::criteria::{select, EdgeInfo};
@@ -40,22 +41,36 @@ pub struct RemeshCounters {
 /// parameters always gets the same answer.
 type RegionKey = (Mode, Vec<[VertexKey; 3]>);
 
-/// Longest wait (in units of `t_simplify`) of a region the energy law keeps refusing.
+/// Longest wait (in units of `t_simplify`) of a region that keeps being refused.
 const MAX_WAIT: Real = 16.0;
 
-/// The energy law's last refusal of a region.
+/// The last refusal of a region whose edges then wait.
 #[derive(Clone, Debug, PartialEq)]
-struct EnergyRefusal {
+struct Refusal {
     /// Simulated time (s) of the refusal.
     at: Real,
-    /// The energy (J) the re-meshing would have added.
-    gain: Real,
-    /// How long (s) after `at` the region's edges wait unless its motion could pay `gain`:
-    /// `t_simplify` after a first refusal, doubled by each further one of an edge up to
-    /// `MAX_WAIT` times `t_simplify`.
+    /// Who refused, and what the edges wait for.
+    cause: Cause,
+    /// How long (s) after `at` the region's edges wait: `t_simplify` after a first refusal,
+    /// doubled by each further one of an edge up to `MAX_WAIT` times `t_simplify`.
     wait: Real,
     /// The region's vertices (the ends of its selected edges).
     vertices: Vec<VertexKey>,
+}
+
+/// Who refused a region, which says what its edges wait for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Cause {
+    /// The energy law: the re-meshing would have added `gain` (J). The edges wait, in either
+    /// mode, until the wait ends or the region's relative motion could pay the gain.
+    Energy {
+        /// The energy (J) the re-meshing would have added.
+        gain: Real,
+    },
+    /// The mesher found no acceptable coarser mesh of the region. Its edges are not coarsened
+    /// again until the wait ends (the regions they form change from pass to pass, so the
+    /// planner's memory of refused regions rarely answers for them); they may be refined.
+    Coarsening,
 }
 
 /// Local remeshing: regions of selected edges are removed and re-meshed in rest space.
@@ -69,10 +84,10 @@ pub struct Remesh {
     refused_plans: BTreeMap<RegionKey, String>,
     /// The parameters `refused_plans` holds for.
     refused_under: Option<RemeshParams>,
-    /// The energy law's last refusal of a region selected by each edge, shared by the region's
-    /// edges (the cloth's motion changes that answer, so such edges wait, they are not refused
-    /// for good).
-    refused_at: BTreeMap<(VertexKey, VertexKey), Arc<EnergyRefusal>>,
+    /// The last refusal (by the energy law, or by the mesher when coarsening) of a region
+    /// selected by each edge, shared by the region's edges (the cloth's motion and the regions
+    /// around change that answer, so such edges wait, they are not refused for good).
+    refused_at: BTreeMap<(VertexKey, VertexKey), Arc<Refusal>>,
     /// What the strategy did so far.
     pub counters: RemeshCounters,
 }
@@ -128,31 +143,37 @@ impl Remesh {
             .retain(|(_, faces), _| faces.iter().flatten().all(|&k| mesh.resolve(k).is_some()));
     }
 
-    /// True when `edge` waits at time `now` (s): the energy law refused a region of it within
-    /// that refusal's wait, and the relative kinetic energy of that region's vertices still
-    /// cannot pay the refused gain.
-    pub(super) fn waiting(&self, cloth: &Cloth, edge: EdgeKey, now: Real) -> bool {
+    /// True when `edge` waits at time `now` (s) to be re-meshed in `mode`: a region of it was
+    /// refused within that refusal's wait, by the energy law while the relative kinetic energy
+    /// of that region's vertices still cannot pay the refused gain, or by the mesher when
+    /// coarsening and `mode` coarsens.
+    pub(super) fn waiting(&self, cloth: &Cloth, edge: EdgeKey, now: Real, mode: Mode) -> bool {
         let Some(r) = self.refused_at.get(&edge_keys(&cloth.mesh, edge)) else {
             return false;
         };
         if now - r.at >= r.wait {
             return false;
         }
-        let vertices: Vec<VertexId> = r
-            .vertices
-            .iter()
-            .filter_map(|&k| cloth.mesh.resolve(k))
-            .collect();
-        relative_kinetic_energy(cloth, &vertices) < r.gain
+        match r.cause {
+            Cause::Energy { gain } => {
+                let vertices: Vec<VertexId> = r
+                    .vertices
+                    .iter()
+                    .filter_map(|&k| cloth.mesh.resolve(k))
+                    .collect();
+                relative_kinetic_energy(cloth, &vertices) < gain
+            }
+            Cause::Coarsening => mode == Mode::Simplify,
+        }
     }
 
-    /// Remembers an energy refusal of `gain` (J) at `now` (s) of the region of `edges`.
+    /// Remembers a refusal for `cause` at `now` (s) of the region of `edges`.
     pub(super) fn remember_refusal(
         &mut self,
         mesh: &Mesh,
         edges: &[EdgeKey],
         now: Real,
-        gain: Real,
+        cause: Cause,
         t_simplify: Real,
     ) {
         let mut vertices: Vec<VertexKey> = edges
@@ -166,9 +187,9 @@ impl Remesh {
             .filter_map(|&e| self.refused_at.get(&edge_keys(mesh, e)))
             .map(|r| (2.0 * r.wait).min(MAX_WAIT * t_simplify))
             .fold(t_simplify, Real::max);
-        let refusal = Arc::new(EnergyRefusal {
+        let refusal = Arc::new(Refusal {
             at: now,
-            gain,
+            cause,
             wait,
             vertices,
         });
@@ -205,7 +226,7 @@ impl Remesh {
     ) {
         let edges: Vec<EdgeKey> = edges
             .into_iter()
-            .filter(|&e| !self.waiting(target.cloth, e, ctx.time))
+            .filter(|&e| !self.waiting(target.cloth, e, ctx.time, mode))
             .collect();
         let params = RemeshParams::from_adapt(ctx.params);
         for group in components(&target.cloth.mesh, &edges) {
@@ -217,7 +238,7 @@ impl Remesh {
     }
 
     /// Re-meshes one component through the shared edit target; a refusal leaves the cloth as it
-    /// was and is counted, an energy refusal remembered.
+    /// was and is counted, an energy refusal or the mesher's refusal to coarsen remembered.
     fn apply(
         &mut self,
         target: &mut ClothTarget,
@@ -261,10 +282,17 @@ impl Remesh {
             }
             Err(e) => {
                 self.counters.refused += 1;
-                if let RemeshError::AddsEnergy { gain, .. } = e {
-                    self.counters.energy_refused += 1;
+                let cause = match (&e, mode) {
+                    (RemeshError::AddsEnergy { gain, .. }, _) => {
+                        self.counters.energy_refused += 1;
+                        Some(Cause::Energy { gain: *gain })
+                    }
+                    (RemeshError::NoAcceptableMesh(_), Mode::Simplify) => Some(Cause::Coarsening),
+                    _ => None,
+                };
+                if let Some(cause) = cause {
                     let t_simplify = ctx.params.t_simplify;
-                    self.remember_refusal(&target.cloth.mesh, edges, now, gain, t_simplify);
+                    self.remember_refusal(&target.cloth.mesh, edges, now, cause, t_simplify);
                 }
                 self.counters.last_refusal = e.to_string();
                 if let (Some(k), RemeshError::NoAcceptableMesh(_)) = (key, &e) {

@@ -1,6 +1,7 @@
 //! Tests of the local-remeshing strategy: the elementary operation on hand-built meshes, the
 //! strategy's bookkeeping, and property tests over random grids and random operation sequences.
 
+use super::strategy::Cause;
 use super::*;
 use crate::adapt::{Adaptivity, ClothTarget, TransferOptions};
 use crate::cloth::Cloth;
@@ -229,40 +230,77 @@ fn an_energy_refused_region_waits_longer_each_time_unless_its_motion_can_pay() {
         .collect();
     let mut cloth = crate::testing::cloth(mesh, x);
     let (t_simplify, gain) = (0.1, 1e-6);
+    let energy = Cause::Energy { gain };
     let (edge, other) = (e(0, 1), e(7, 8));
     let mut s = Remesh::new();
-    s.remember_refusal(&cloth.mesh, &[edge], 0.0, gain, t_simplify);
-    assert!(s.waiting(&cloth, edge, 0.09) && !s.waiting(&cloth, edge, 0.11));
-    assert!(!s.waiting(&cloth, other, 0.05), "an edge never refused");
-    s.remember_refusal(&cloth.mesh, &[edge], 0.1, gain, t_simplify);
-    assert!(s.waiting(&cloth, edge, 0.29) && !s.waiting(&cloth, edge, 0.31));
+    s.remember_refusal(&cloth.mesh, &[edge], 0.0, energy, t_simplify);
+    assert!(
+        s.waiting(&cloth, edge, 0.09, Mode::Refine) && !s.waiting(&cloth, edge, 0.11, Mode::Refine)
+    );
+    assert!(
+        s.waiting(&cloth, edge, 0.09, Mode::Simplify),
+        "either mode waits"
+    );
+    assert!(
+        !s.waiting(&cloth, other, 0.05, Mode::Refine),
+        "an edge never refused"
+    );
+    s.remember_refusal(&cloth.mesh, &[edge], 0.1, energy, t_simplify);
+    assert!(
+        s.waiting(&cloth, edge, 0.29, Mode::Refine) && !s.waiting(&cloth, edge, 0.31, Mode::Refine)
+    );
     for _ in 0..10 {
-        s.remember_refusal(&cloth.mesh, &[edge], 0.3, gain, t_simplify);
+        s.remember_refusal(&cloth.mesh, &[edge], 0.3, energy, t_simplify);
     }
-    assert!(s.waiting(&cloth, edge, 0.3 + 1.59) && !s.waiting(&cloth, edge, 0.3 + 1.61));
+    assert!(
+        s.waiting(&cloth, edge, 0.3 + 1.59, Mode::Refine)
+            && !s.waiting(&cloth, edge, 0.3 + 1.61, Mode::Refine)
+    );
 
     // The region's two vertices moving apart hold more than the gain: tried at once.
     cloth.v[0] = Vec3::new(-1.0, 0.0, 0.0);
     cloth.v[1] = Vec3::new(1.0, 0.0, 0.0);
     let payable = crate::adapt::relative_kinetic_energy(&cloth, &[VertexId(0), VertexId(1)]);
     assert!(payable > gain, "{payable}");
-    assert!(!s.waiting(&cloth, edge, 0.31));
+    assert!(!s.waiting(&cloth, edge, 0.31, Mode::Refine));
     cloth.v[0] = Vec3::zeros();
     cloth.v[1] = Vec3::zeros();
 
     // A later refusal of another edge survives pruning the first (quiet for twice its wait).
-    s.remember_refusal(&cloth.mesh, &[other], 3.45, gain, t_simplify);
+    s.remember_refusal(&cloth.mesh, &[other], 3.45, energy, t_simplify);
     s.prune(&cloth.mesh, 0.3 + 2.0 * 1.6 + 0.01, t_simplify);
-    assert!(s.waiting(&cloth, other, 3.52), "kept");
-    s.remember_refusal(&cloth.mesh, &[edge], 3.6, gain, t_simplify);
+    assert!(s.waiting(&cloth, other, 3.52, Mode::Refine), "kept");
+    s.remember_refusal(&cloth.mesh, &[edge], 3.6, energy, t_simplify);
     assert!(
-        s.waiting(&cloth, edge, 3.69) && !s.waiting(&cloth, edge, 3.71),
+        s.waiting(&cloth, edge, 3.69, Mode::Refine) && !s.waiting(&cloth, edge, 3.71, Mode::Refine),
         "after being forgotten, an edge waits t_simplify again"
     );
 }
 
+/// An edge of a region the mesher could not coarsen waits to be coarsened again (`t_simplify`,
+/// doubled by a further refusal), not to be refined.
+#[test]
+fn an_edge_the_mesher_could_not_coarsen_waits_to_be_coarsened_not_refined() {
+    let mesh = union_jack(3, 3, 1.0, 1.0);
+    let x = mesh
+        .vertices()
+        .map(|v| Vec3::new(mesh.rest(v).x, mesh.rest(v).y, 0.0))
+        .collect();
+    let cloth = crate::testing::cloth(mesh, x);
+    let (edge, t_simplify) = (e(0, 1), 0.1);
+    let mut s = Remesh::new();
+    s.remember_refusal(&cloth.mesh, &[edge], 0.0, Cause::Coarsening, t_simplify);
+    assert!(s.waiting(&cloth, edge, 0.09, Mode::Simplify));
+    assert!(!s.waiting(&cloth, edge, 0.11, Mode::Simplify));
+    assert!(!s.waiting(&cloth, edge, 0.05, Mode::Refine));
+    s.remember_refusal(&cloth.mesh, &[edge], 0.1, Cause::Coarsening, t_simplify);
+    assert!(s.waiting(&cloth, edge, 0.29, Mode::Simplify));
+    assert!(!s.waiting(&cloth, edge, 0.31, Mode::Simplify));
+}
+
 /// A region the planner refused is answered from memory when the next pass selects it again,
-/// with the same refusal, and is planned afresh once the parameters change.
+/// with the same refusal, and is planned afresh once the parameters change; edges the mesher
+/// could not coarsen are not selected again within `t_simplify`.
 #[test]
 fn a_refused_region_is_remembered_until_the_parameters_change() {
     use crate::adapt::AdaptContext;
@@ -280,10 +318,13 @@ fn a_refused_region_is_remembered_until_the_parameters_change() {
     let obstacles = crate::testing::obstacles(&[]);
     let mut ctx = AdaptContext {
         obstacles: &obstacles,
-        time: 1.01,
+        time: 1.0 + 0.5 * spec.t_simplify,
         params: &spec,
         interrupt: None,
     };
+    s.adapt(&mut cloth, &ctx).unwrap();
+    assert_eq!(s.counters.refused, first.refused, "the coarsenings wait");
+    ctx.time = 1.0 + 1.01 * spec.t_simplify;
     s.adapt(&mut cloth, &ctx).unwrap();
     assert_eq!(s.counters.refused, 2 * first.refused, "{:?}", s.counters);
     assert_eq!(s.counters.remembered, first.refused);
@@ -294,7 +335,9 @@ fn a_refused_region_is_remembered_until_the_parameters_change() {
         ..spec
     };
     ctx.params = &changed;
+    ctx.time += 2.01 * spec.t_simplify;
     s.adapt(&mut cloth, &ctx).unwrap();
+    assert_eq!(s.counters.refused, 3 * first.refused, "{:?}", s.counters);
     assert_eq!(s.counters.remembered, first.refused, "planned afresh");
 }
 
