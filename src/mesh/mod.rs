@@ -141,7 +141,7 @@ impl Mesh {
     /// Builds a mesh from rest coordinates (m) and counter-clockwise faces, records the pattern
     /// area, and checks every conformity rule.
     pub fn from_faces(rest: Vec<Vec2>, faces: &[[usize; 3]]) -> Result<Mesh, MeshError> {
-        let mut mesh = Mesh::default();
+        let mut mesh = Mesh::with_capacity(rest.len(), faces.len());
         for &p in &rest {
             mesh.push_vertex(p);
         }
@@ -346,6 +346,22 @@ impl Mesh {
 
     // ----- low-level slot operations, used by `edit` and the constructors only -----
 
+    /// An empty mesh with room for `vertices` vertex slots and `faces` face slots.
+    fn with_capacity(vertices: usize, faces: usize) -> Mesh {
+        Mesh {
+            rest: Vec::with_capacity(vertices),
+            vertex_live: Vec::with_capacity(vertices),
+            vertex_generation: Vec::with_capacity(vertices),
+            pinned: Vec::with_capacity(vertices),
+            vertex_faces: Vec::with_capacity(vertices),
+            lower_edges: Vec::with_capacity(vertices),
+            faces: Vec::with_capacity(faces),
+            face_live: Vec::with_capacity(faces),
+            face_generation: Vec::with_capacity(faces),
+            ..Mesh::default()
+        }
+    }
+
     fn push_vertex(&mut self, rest: Vec2) -> VertexId {
         self.version += 1;
         if let Some(slot) = self.free_vertices.pop_first() {
@@ -361,7 +377,8 @@ impl Mesh {
         self.vertex_live.push(true);
         self.vertex_generation.push(0);
         self.pinned.push(false);
-        self.vertex_faces.push(Vec::new());
+        // Room for an interior vertex's faces (six to eight on the meshes made here).
+        self.vertex_faces.push(Vec::with_capacity(8));
         self.lower_edges.push(Vec::new());
         VertexId(self.rest.len() as u32 - 1)
     }

@@ -62,13 +62,13 @@ impl Mesh {
             complete.extend(split);
             complete.sort_unstable();
         }
+        let used = sorted_vertices(self, &faces);
         let mut out = Patch {
-            mesh: Mesh::default(),
-            vertices: Vec::new(),
+            mesh: Mesh::with_capacity(used.len(), faces.len()),
+            vertices: Vec::with_capacity(used.len()),
             vertex_map: BTreeMap::new(),
             face_map: BTreeMap::new(),
         };
-        let used = sorted_vertices(self, &faces);
         let mut vertex_map = Vec::with_capacity(used.len());
         for v in used {
             let local = out.mesh.push_vertex(self.rest(v));

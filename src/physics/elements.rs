@@ -35,6 +35,14 @@ impl Springs {
         self.a.is_empty()
     }
 
+    fn reserve(&mut self, springs: usize) {
+        self.a.reserve(springs);
+        self.b.reserve(springs);
+        self.rest_length.reserve(springs);
+        self.k.reserve(springs);
+        self.kd.reserve(springs);
+    }
+
     fn clear(&mut self) {
         self.a.clear();
         self.b.clear();
@@ -46,6 +54,7 @@ impl Springs {
     /// Rebuilds the springs of `mesh` for `material`, reusing the allocations.
     pub(crate) fn rebuild(&mut self, mesh: &Mesh, material: &Material) {
         self.clear();
+        self.reserve(mesh.edge_count());
         for (EdgeKey(a, b), faces) in mesh.edges() {
             let rest_length = mesh.rest_length(a, b);
             let k = match material.stiffness {
@@ -124,6 +133,7 @@ impl Bends {
     /// faces (a broken mesh) use their first two.
     pub(crate) fn rebuild(&mut self, mesh: &Mesh) {
         self.v.clear();
+        self.v.reserve(mesh.edge_count());
         for (EdgeKey(a, b), faces) in mesh.edges() {
             let Some(second) = faces.second else {
                 continue;
