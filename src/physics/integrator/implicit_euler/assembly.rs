@@ -252,7 +252,18 @@ impl Pattern {
 
 /// A floating-point type the factorisation can work in: `f64`, or `f32` for a preconditioner
 /// (half the memory to stream through per solve).
-pub(super) trait Precision: faer::traits::ComplexField + Copy {
+pub(super) trait Precision:
+    faer::traits::ComplexField
+    + Copy
+    + Send
+    + Sync
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+    + std::ops::AddAssign
+    + std::ops::SubAssign
+{
     /// `x` rounded to this precision.
     fn from_f64(x: Real) -> Self;
     /// `self` as an `f64` (exact).

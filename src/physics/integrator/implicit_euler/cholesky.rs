@@ -6,22 +6,25 @@
 //! the structure of `L`) depends only on the pattern, so it is kept while the topology is
 //! unchanged (same slots, springs and bending elements as the previous step) and redone after a
 //! mesh edit; each step then costs one numeric factorisation and, per solve (one for the direct
-//! solver, one per CG iteration for the preconditioner), two triangular solves. Sequential (`Par::Seq`), so results do not
-//! depend on a thread count. Allocation-free in steady state.
+//! solver, one per CG iteration for the preconditioner), two triangular solves
+//! ([`super::supernodal_solve`], shared by two threads on a large factor). The factorisation is
+//! sequential (`Par::Seq`) and the solves' arithmetic does not depend on the thread count, so
+//! neither do the results. Allocation-free in steady state.
 
 use super::assembly::{Pattern, Precision};
+use super::supernodal_solve::{SolveScratch, TreeSplit};
 use super::system::System;
 use crate::math::{Mat3, Vec3};
 use crate::physics::ForceModel;
-use faer::dyn_stack::{MemBuffer, MemStack, StackReq};
+use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, CholeskySymbolicParams, LltRef, SymbolicCholesky,
+    factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
     SymmetricOrdering,
 };
 use faer::sparse::linalg::SupernodalThreshold;
 use faer::sparse::{FaerError, SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, MatMut, Par, Side};
+use faer::{Par, Side};
 
 /// The direct solve of a step failed: the matrix is not numerically positive definite (a
 /// non-positive or non-finite pivot), or its symbolic analysis could not be done (out of memory).
@@ -29,21 +32,23 @@ use faer::{Conj, MatMut, Par, Side};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) struct DirectFailure;
 
-/// The analysis of one pattern: the pattern, its symbolic factorisation and the scratch memory
-/// the numeric factorisation and the solve need.
+/// The analysis of one pattern: the pattern, its symbolic factorisation, the scratch memory
+/// the numeric factorisation needs and the split of the factor's supernodes for the solves.
 struct Analysis {
     pattern: Pattern,
     symbolic: SymbolicCholesky<usize>,
     scratch: MemBuffer,
+    split: TreeSplit,
 }
 
-/// The numeric side in one precision: the matrix's values, its factor and a right-hand side,
-/// each reused across steps.
+/// The numeric side in one precision: the matrix's values, its factor, a right-hand side and
+/// the solves' buffers, each reused across steps.
 #[derive(Default)]
 struct Numeric<T> {
     values: Vec<T>,
     factor: Vec<T>,
     rhs: Vec<T>,
+    solve_scratch: SolveScratch<T>,
 }
 
 impl<T: Precision> Numeric<T> {
@@ -61,6 +66,7 @@ impl<T: Precision> Numeric<T> {
             pattern,
             symbolic,
             scratch,
+            ..
         } = analysis;
         pattern.fill(system, model, blocks, diagonal, &mut self.values);
         let n = pattern.dim();
@@ -84,12 +90,8 @@ impl<T: Precision> Numeric<T> {
     }
 
     /// Solves with the factor of the last successful [`Numeric::factorize`] in `analysis`.
-    fn solve(&mut self, analysis: &mut Analysis, b: &[Vec3], x: &mut [Vec3]) {
-        let Analysis {
-            pattern,
-            symbolic,
-            scratch,
-        } = analysis;
+    fn solve(&mut self, analysis: &Analysis, b: &[Vec3], x: &mut [Vec3]) {
+        let Analysis { pattern, split, .. } = analysis;
         let n = pattern.dim();
         self.rhs.clear();
         self.rhs.resize(n, T::from_f64(0.0));
@@ -99,13 +101,7 @@ impl<T: Precision> Numeric<T> {
                 self.rhs[p + k] = T::from_f64(bi[k]);
             }
         }
-        let rhs = MatMut::from_column_major_slice_mut(&mut self.rhs, n, 1);
-        LltRef::new(symbolic, &self.factor).solve_in_place_with_conj(
-            Conj::No,
-            rhs,
-            Par::Seq,
-            MemStack::new(scratch),
-        );
+        split.solve(&self.factor, &mut self.rhs, &mut self.solve_scratch);
         for (i, xi) in x.iter_mut().enumerate() {
             let p = 3 * pattern.position(i);
             *xi = Vec3::from_fn(|k, _| self.rhs[p + k].to_f64());
@@ -226,13 +222,21 @@ impl Cholesky {
     /// Solves `A x = b` (`b` in N s, `x` in m/s, one per slot) with the matrix of the last
     /// successful [`Cholesky::factorize`], which must have been of a model with these slots.
     pub(super) fn solve_factored(&mut self, b: &[Vec3], x: &mut [Vec3]) {
-        let Some(analysis) = self.analysis.as_mut().filter(|_| self.factored) else {
+        let Some(analysis) = self.analysis.as_ref().filter(|_| self.factored) else {
             unreachable!("a solve after a successful factorisation");
         };
         match &mut self.numbers {
             Numbers::Whole(n) => n.solve(analysis, b, x),
             Numbers::SpringsSingle(n) => n.solve(analysis, b, x),
         }
+    }
+}
+
+#[cfg(test)]
+impl Cholesky {
+    /// The split of the current analysis's supernodes, if there is an analysis.
+    pub(super) fn split(&self) -> Option<&TreeSplit> {
+        self.analysis.as_ref().map(|a| &a.split)
     }
 }
 
@@ -259,15 +263,17 @@ fn analyse<T: Precision>(pattern: Result<Pattern, FaerError>) -> Result<Analysis
         },
     )
     .map_err(|_| DirectFailure)?;
-    let need = StackReq::or(
-        symbolic.factorize_numeric_llt_scratch::<T>(Par::Seq, Default::default()),
-        symbolic.solve_in_place_scratch::<T>(1, Par::Seq),
-    );
+    let need = symbolic.factorize_numeric_llt_scratch::<T>(Par::Seq, Default::default());
     let scratch = MemBuffer::try_new(need).map_err(|_| DirectFailure)?;
+    let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
+        unreachable!("the analysis is forced supernodal");
+    };
+    let split = TreeSplit::new(supernodal);
     Ok(Analysis {
         pattern,
         symbolic,
         scratch,
+        split,
     })
 }
 

@@ -57,6 +57,7 @@ mod cg;
 mod cholesky;
 #[cfg(test)]
 mod diagnosis;
+mod supernodal_solve;
 mod system;
 #[cfg(test)]
 mod tests;
