@@ -12,7 +12,7 @@
 //! neither do the results. Allocation-free in steady state.
 
 use super::assembly::{Pattern, Precision};
-use super::supernodal_solve::{SolveScratch, TreeSplit};
+use super::supernodal_solve::{Factor, SolveScratch, TreeSplit};
 use super::system::System;
 use crate::math::{Mat3, Vec3};
 use crate::physics::ForceModel;
@@ -41,12 +41,13 @@ struct Analysis {
     split: TreeSplit,
 }
 
-/// The numeric side in one precision: the matrix's values, its factor, a right-hand side and
-/// the solves' buffers, each reused across steps.
+/// The numeric side in one precision: the matrix's values, its factor and the reciprocals of
+/// the factor's diagonal, a right-hand side and the solves' buffers, each reused across steps.
 #[derive(Default)]
 struct Numeric<T> {
     values: Vec<T>,
     factor: Vec<T>,
+    inverse_diagonal: Vec<T>,
     rhs: Vec<T>,
     solve_scratch: SolveScratch<T>,
 }
@@ -86,6 +87,9 @@ impl<T: Precision> Numeric<T> {
                 Default::default(),
             )
             .map_err(|_| DirectFailure)?;
+        analysis
+            .split
+            .inverse_diagonal(&self.factor, &mut self.inverse_diagonal);
         Ok(())
     }
 
@@ -101,7 +105,11 @@ impl<T: Precision> Numeric<T> {
                 self.rhs[p + k] = T::from_f64(bi[k]);
             }
         }
-        split.solve(&self.factor, &mut self.rhs, &mut self.solve_scratch);
+        let factor = Factor {
+            values: &self.factor,
+            inverse_diagonal: &self.inverse_diagonal,
+        };
+        split.solve(factor, &mut self.rhs, &mut self.solve_scratch);
         for (i, xi) in x.iter_mut().enumerate() {
             let p = 3 * pattern.position(i);
             *xi = Vec3::from_fn(|k, _| self.rhs[p + k].to_f64());

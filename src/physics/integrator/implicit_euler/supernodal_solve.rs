@@ -40,6 +40,14 @@ pub(super) struct TreeSplit {
     top_columns: Vec<usize>,
 }
 
+/// A numeric factor for a split: its values in faer's supernodal layout and the reciprocals of
+/// its diagonal ([`TreeSplit::inverse_diagonal`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Factor<'a, T> {
+    pub(super) values: &'a [T],
+    pub(super) inverse_diagonal: &'a [T],
+}
+
 /// Buffers of a solve, reused across solves.
 #[derive(Debug, Default)]
 pub(super) struct SolveScratch<T> {
@@ -134,12 +142,27 @@ impl TreeSplit {
         }
     }
 
-    /// Solves `L Lᵀ x = b` in place (`x` holds `b` on entry) with the factor's `values` (faer's
-    /// supernodal layout for the analysis this split was made from); the two groups run on two
-    /// threads of the current rayon pool when it has two and the factor is large enough.
+    /// The reciprocals of `values`' diagonal (faer's supernodal layout for the analysis this
+    /// split was made from), one per column, into `inverse`: the solves multiply by them, a
+    /// division's latency being most of a column's cost on the substitutions' critical path.
+    pub(super) fn inverse_diagonal<T: Precision>(&self, values: &[T], inverse: &mut Vec<T>) {
+        inverse.clear();
+        for s in 0..self.begin.len() - 1 {
+            let (nc, np) = (
+                self.begin[s + 1] - self.begin[s],
+                self.row_ptr[s + 1] - self.row_ptr[s],
+            );
+            let block = &values[self.val_ptr[s]..self.val_ptr[s + 1]];
+            let one = T::from_f64(1.0);
+            inverse.extend((0..nc).map(|j| one / block[j * (nc + np) + j]));
+        }
+    }
+
+    /// Solves `L Lᵀ x = b` in place (`x` holds `b` on entry) with `factor`; the two groups run
+    /// on two threads of the current rayon pool when it has two and the factor is large enough.
     pub(super) fn solve<T: Precision>(
         &self,
-        values: &[T],
+        factor: Factor<'_, T>,
         x: &mut [T],
         scratch: &mut SolveScratch<T>,
     ) {
@@ -147,7 +170,7 @@ impl TreeSplit {
         let SolveScratch { copy, sums, work } = scratch;
         let [sums0, sums1] = sums;
         let [work0, work1] = work;
-        let parallel = rayon::current_num_threads() > 1 && values.len() >= PARALLEL_ENTRIES;
+        let parallel = rayon::current_num_threads() > 1 && factor.values.len() >= PARALLEL_ENTRIES;
         let both = |a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send)| {
             if parallel {
                 rayon::join(a, b);
@@ -166,24 +189,24 @@ impl TreeSplit {
         {
             let x1 = &mut *x;
             both(
-                &mut || self.forward_group(0, values, copy, sums0, work0),
-                &mut || self.forward_group(1, values, x1, sums1, work1),
+                &mut || self.forward_group(0, factor, copy, sums0, work0),
+                &mut || self.forward_group(1, factor, x1, sums1, work1),
             );
         }
         self.take_columns(0, copy, x);
         for (k, &c) in self.top_columns.iter().enumerate() {
             x[c] += sums0[k] + sums1[k];
         }
-        self.forward_nodes(&self.top, values, x, None, work0);
+        self.forward_nodes(&self.top, factor, x, None, work0);
         // Backward, Lᵀ x = y: the ancestors, then the groups.
-        self.backward_nodes(&self.top, values, x, work0);
+        self.backward_nodes(&self.top, factor, x, work0);
         copy.clear();
         copy.extend_from_slice(x);
         {
             let x1 = &mut *x;
             both(
-                &mut || self.backward_group(0, values, copy, work0),
-                &mut || self.backward_group(1, values, x1, work1),
+                &mut || self.backward_group(0, factor, copy, work0),
+                &mut || self.backward_group(1, factor, x1, work1),
             );
         }
         self.take_columns(0, copy, x);
@@ -200,16 +223,22 @@ impl TreeSplit {
     fn forward_group<T: Precision>(
         &self,
         g: usize,
-        values: &[T],
+        factor: Factor<'_, T>,
         x: &mut [T],
         sums: &mut [T],
         work: &mut Vec<T>,
     ) {
-        self.forward_nodes(&self.groups[g], values, x, Some(sums), work);
+        self.forward_nodes(&self.groups[g], factor, x, Some(sums), work);
     }
 
-    fn backward_group<T: Precision>(&self, g: usize, values: &[T], x: &mut [T], work: &mut Vec<T>) {
-        self.backward_nodes(&self.groups[g], values, x, work);
+    fn backward_group<T: Precision>(
+        &self,
+        g: usize,
+        factor: Factor<'_, T>,
+        x: &mut [T],
+        work: &mut Vec<T>,
+    ) {
+        self.backward_nodes(&self.groups[g], factor, x, work);
     }
 
     /// Forward substitution of `nodes` (increasing), compiled for AVX2 when the CPU has it (the
@@ -217,7 +246,7 @@ impl TreeSplit {
     fn forward_nodes<T: Precision>(
         &self,
         nodes: &[usize],
-        values: &[T],
+        factor: Factor<'_, T>,
         x: &mut [T],
         sums: Option<&mut [T]>,
         work: &mut Vec<T>,
@@ -225,9 +254,9 @@ impl TreeSplit {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { self.forward_nodes_avx2(nodes, values, x, sums, work) };
+            return unsafe { self.forward_nodes_avx2(nodes, factor, x, sums, work) };
         }
-        self.forward_nodes_body(nodes, values, x, sums, work)
+        self.forward_nodes_body(nodes, factor, x, sums, work)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -235,28 +264,28 @@ impl TreeSplit {
     fn forward_nodes_avx2<T: Precision>(
         &self,
         nodes: &[usize],
-        values: &[T],
+        factor: Factor<'_, T>,
         x: &mut [T],
         sums: Option<&mut [T]>,
         work: &mut Vec<T>,
     ) {
-        self.forward_nodes_body(nodes, values, x, sums, work)
+        self.forward_nodes_body(nodes, factor, x, sums, work)
     }
 
     /// Backward substitution of `nodes` (taken decreasing), compiled as [`Self::forward_nodes`].
     fn backward_nodes<T: Precision>(
         &self,
         nodes: &[usize],
-        values: &[T],
+        factor: Factor<'_, T>,
         x: &mut [T],
         work: &mut Vec<T>,
     ) {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { self.backward_nodes_avx2(nodes, values, x, work) };
+            return unsafe { self.backward_nodes_avx2(nodes, factor, x, work) };
         }
-        self.backward_nodes_body(nodes, values, x, work)
+        self.backward_nodes_body(nodes, factor, x, work)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -264,11 +293,11 @@ impl TreeSplit {
     fn backward_nodes_avx2<T: Precision>(
         &self,
         nodes: &[usize],
-        values: &[T],
+        factor: Factor<'_, T>,
         x: &mut [T],
         work: &mut Vec<T>,
     ) {
-        self.backward_nodes_body(nodes, values, x, work)
+        self.backward_nodes_body(nodes, factor, x, work)
     }
 
     /// Supernode `s`'s block of `values`, its columns and its pattern.
@@ -276,10 +305,10 @@ impl TreeSplit {
     fn node<'a, T>(
         &'a self,
         s: usize,
-        values: &'a [T],
+        factor: Factor<'a, T>,
     ) -> (&'a [T], std::ops::Range<usize>, &'a [usize]) {
         (
-            &values[self.val_ptr[s]..self.val_ptr[s + 1]],
+            &factor.values[self.val_ptr[s]..self.val_ptr[s + 1]],
             self.begin[s]..self.begin[s + 1],
             &self.rows[self.row_ptr[s]..self.row_ptr[s + 1]],
         )
@@ -292,14 +321,14 @@ impl TreeSplit {
     fn forward_nodes_body<T: Precision>(
         &self,
         nodes: &[usize],
-        values: &[T],
+        factor: Factor<'_, T>,
         x: &mut [T],
         mut sums: Option<&mut [T]>,
         work: &mut Vec<T>,
     ) {
         let zero = T::from_f64(0.0);
         for &s in nodes {
-            let (block, cols, pattern) = self.node(s, values);
+            let (block, cols, pattern) = self.node(s, factor);
             let (nc, nr) = (cols.len(), cols.len() + pattern.len());
             work.clear();
             work.extend_from_slice(&x[cols.clone()]);
@@ -307,7 +336,7 @@ impl TreeSplit {
             let (top, below) = work.split_at_mut(nc);
             for j in 0..nc {
                 let column = &block[j * nr..j * nr + nc];
-                let xj = top[j] / column[j];
+                let xj = top[j] * factor.inverse_diagonal[cols.start + j];
                 top[j] = xj;
                 for (w, &l) in top[j + 1..].iter_mut().zip(&column[j + 1..]) {
                     *w -= l * xj;
@@ -335,12 +364,12 @@ impl TreeSplit {
     fn backward_nodes_body<T: Precision>(
         &self,
         nodes: &[usize],
-        values: &[T],
+        factor: Factor<'_, T>,
         x: &mut [T],
         work: &mut Vec<T>,
     ) {
         for &s in nodes.iter().rev() {
-            let (block, cols, pattern) = self.node(s, values);
+            let (block, cols, pattern) = self.node(s, factor);
             let (nc, nr) = (cols.len(), cols.len() + pattern.len());
             work.clear();
             work.extend_from_slice(&x[cols.clone()]);
@@ -351,7 +380,8 @@ impl TreeSplit {
             }
             for j in (0..nc).rev() {
                 let column = &block[j * nr..j * nr + nc];
-                top[j] = (top[j] - dot(&column[j + 1..], &top[j + 1..])) / column[j];
+                top[j] = (top[j] - dot(&column[j + 1..], &top[j + 1..]))
+                    * factor.inverse_diagonal[cols.start + j];
             }
             x[cols].copy_from_slice(top);
         }
