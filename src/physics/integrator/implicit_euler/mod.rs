@@ -259,9 +259,11 @@ impl ImplicitEuler {
         }
         let interrupt = self.interrupt.as_deref();
         let factor = Preconditioner::Factor(&mut self.springs_factor);
-        let pcg = self
-            .cg
-            .solve(&self.system, model, interrupt, factor, &mut self.dv);
+        let (cg, system, dv) = (&mut self.cg, &self.system, &mut self.dv);
+        // Two triangular solves per iteration, each shared by two threads: keep the other awake.
+        let pcg = crate::physics::awake::with_pool_awake(|| {
+            cg.solve(system, model, interrupt, factor, dv)
+        });
         if !pcg.unconverged {
             return pcg;
         }
