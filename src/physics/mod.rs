@@ -13,7 +13,6 @@
 //! registry) with one file per integrator under `integrator/`. Seed 004's single-particle
 //! experiments that compare the integrators live in `crate::study::integrators`.
 
-mod awake;
 mod chunks;
 mod elements;
 mod forces;

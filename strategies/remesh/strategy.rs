@@ -54,7 +54,8 @@ struct Refusal {
     /// How long (s) after `at` the region's edges wait: `t_simplify` after a first refusal,
     /// doubled by each further one of an edge up to `MAX_WAIT` times `t_simplify`.
     wait: Real,
-    /// The region's vertices (the ends of its selected edges).
+    /// For an energy refusal, the region's vertices (the ends of its selected edges), whose
+    /// relative motion may pay the gain; empty for a coarsening.
     vertices: Vec<VertexKey>,
 }
 
@@ -176,10 +177,13 @@ impl Remesh {
         cause: Cause,
         t_simplify: Real,
     ) {
-        let mut vertices: Vec<VertexKey> = edges
-            .iter()
-            .flat_map(|e| [mesh.key(e.0), mesh.key(e.1)])
-            .collect();
+        let mut vertices: Vec<VertexKey> = match cause {
+            Cause::Energy { .. } => edges
+                .iter()
+                .flat_map(|e| [mesh.key(e.0), mesh.key(e.1)])
+                .collect(),
+            Cause::Coarsening => Vec::new(),
+        };
         vertices.sort_unstable();
         vertices.dedup();
         let wait = edges

@@ -227,6 +227,14 @@ impl Cholesky {
         Ok(())
     }
 
+    /// True when the solves with the current analysis's factor are shared by two threads
+    /// ([`TreeSplit::shares_solves`]).
+    pub(super) fn shares_solves(&self) -> bool {
+        self.analysis
+            .as_ref()
+            .is_some_and(|a| a.split.shares_solves())
+    }
+
     /// Solves `A x = b` (`b` in N s, `x` in m/s, one per slot) with the matrix of the last
     /// successful [`Cholesky::factorize`], which must have been of a model with these slots.
     pub(super) fn solve_factored(&mut self, b: &[Vec3], x: &mut [Vec3]) {
@@ -249,8 +257,8 @@ impl Cholesky {
 }
 
 /// The symbolic analysis of `pattern` (lower triangle, already in elimination order,
-/// supernodal; a pattern that could not be built fails) and its scratch memory for solving in
-/// precision `T`.
+/// supernodal; a pattern that could not be built fails), its scratch memory for factorising in
+/// precision `T` and the split of its supernodes for the solves.
 fn analyse<T: Precision>(pattern: Result<Pattern, FaerError>) -> Result<Analysis, DirectFailure> {
     let pattern = pattern.map_err(|_| DirectFailure)?;
     let n = pattern.dim();

@@ -258,12 +258,16 @@ impl ImplicitEuler {
             };
         }
         let interrupt = self.interrupt.as_deref();
+        let shared = self.springs_factor.shares_solves();
         let factor = Preconditioner::Factor(&mut self.springs_factor);
         let (cg, system, dv) = (&mut self.cg, &self.system, &mut self.dv);
-        // Two triangular solves per iteration, each shared by two threads: keep the other awake.
-        let pcg = crate::physics::awake::with_pool_awake(|| {
-            cg.solve(system, model, interrupt, factor, dv)
-        });
+        let solve = || cg.solve(system, model, interrupt, factor, dv);
+        // Two triangular solves an iteration, each shared by two threads: keep the other awake.
+        let pcg = if shared {
+            crate::parallel::with_partner_awake(solve)
+        } else {
+            solve()
+        };
         if !pcg.unconverged {
             return pcg;
         }

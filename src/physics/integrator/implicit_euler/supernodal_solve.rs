@@ -11,10 +11,10 @@ use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 
 /// Below this many factor entries a solve stays on one thread: handing a group to the other
 /// thread costs more than it saves.
-const PARALLEL_ENTRIES: usize = 50_000;
+pub(super) const PARALLEL_ENTRIES: usize = 50_000;
 
 /// The groups are balanced once the heavier holds at most this fraction of their entries.
-const BALANCE: f64 = 0.55;
+pub(super) const BALANCE: f64 = 0.55;
 
 /// Marks a column that is not an ancestor's in [`TreeSplit::top_index`].
 const NOT_TOP: u32 = u32::MAX;
@@ -61,9 +61,9 @@ pub(super) struct SolveScratch<T> {
 
 impl TreeSplit {
     /// The split of the supernodes of `symbolic`: starting from the roots, the heaviest subtree
-    /// (by factor entries) is opened, its root going to the ancestors, until its subtrees can be
+    /// (by factor entries) is opened, its root going to the ancestors, until the subtrees can be
     /// dealt to two groups, heaviest first to the lighter, with neither holding more than 55 % of
-    /// their entries (or until no subtree can be opened).
+    /// the groups' entries, or until the heaviest subtree is a single supernode.
     pub(super) fn new(symbolic: &SymbolicSupernodalCholesky<usize>) -> TreeSplit {
         let ns = symbolic.n_supernodes();
         let mut begin = symbolic.supernode_begin().to_vec();
@@ -158,8 +158,18 @@ impl TreeSplit {
         }
     }
 
+    /// True when a solve shares its groups between two threads: on a thread of a pool that can
+    /// help ([`crate::parallel::pool_thread_can_share`]), both groups holding supernodes and the
+    /// factor at least `PARALLEL_ENTRIES` entries.
+    pub(super) fn shares_solves(&self) -> bool {
+        let entries = self.val_ptr.last().copied().unwrap_or(0);
+        entries >= PARALLEL_ENTRIES
+            && self.groups.iter().all(|g| !g.is_empty())
+            && crate::parallel::pool_thread_can_share()
+    }
+
     /// Solves `L Lᵀ x = b` in place (`x` holds `b` on entry) with `factor`; the two groups run
-    /// on two threads of the current rayon pool when it has two and the factor is large enough.
+    /// on two threads when [`TreeSplit::shares_solves`], one after the other otherwise.
     pub(super) fn solve<T: Precision>(
         &self,
         factor: Factor<'_, T>,
@@ -170,7 +180,7 @@ impl TreeSplit {
         let SolveScratch { copy, sums, work } = scratch;
         let [sums0, sums1] = sums;
         let [work0, work1] = work;
-        let parallel = rayon::current_num_threads() > 1 && factor.values.len() >= PARALLEL_ENTRIES;
+        let parallel = self.shares_solves();
         let both = |a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send)| {
             if parallel {
                 rayon::join(a, b);
@@ -189,11 +199,11 @@ impl TreeSplit {
         {
             let x1 = &mut *x;
             both(
-                &mut || self.forward_group(0, factor, copy, sums0, work0),
-                &mut || self.forward_group(1, factor, x1, sums1, work1),
+                &mut || self.forward_nodes(&self.groups[0], factor, copy, Some(sums0), work0),
+                &mut || self.forward_nodes(&self.groups[1], factor, x1, Some(sums1), work1),
             );
         }
-        self.take_columns(0, copy, x);
+        self.take_first_group(copy, x);
         for (k, &c) in self.top_columns.iter().enumerate() {
             x[c] += sums0[k] + sums1[k];
         }
@@ -205,40 +215,19 @@ impl TreeSplit {
         {
             let x1 = &mut *x;
             both(
-                &mut || self.backward_group(0, factor, copy, work0),
-                &mut || self.backward_group(1, factor, x1, work1),
+                &mut || self.backward_nodes(&self.groups[0], factor, copy, work0),
+                &mut || self.backward_nodes(&self.groups[1], factor, x1, work1),
             );
         }
-        self.take_columns(0, copy, x);
+        self.take_first_group(copy, x);
     }
 
-    /// Copies group `g`'s columns from `from` into `x`.
-    fn take_columns<T: Precision>(&self, g: usize, from: &[T], x: &mut [T]) {
-        for &s in &self.groups[g] {
+    /// Copies the first group's columns from `from` (where that group was solved) into `x`.
+    fn take_first_group<T: Precision>(&self, from: &[T], x: &mut [T]) {
+        for &s in &self.groups[0] {
             let cols = self.begin[s]..self.begin[s + 1];
             x[cols.clone()].copy_from_slice(&from[cols]);
         }
-    }
-
-    fn forward_group<T: Precision>(
-        &self,
-        g: usize,
-        factor: Factor<'_, T>,
-        x: &mut [T],
-        sums: &mut [T],
-        work: &mut Vec<T>,
-    ) {
-        self.forward_nodes(&self.groups[g], factor, x, Some(sums), work);
-    }
-
-    fn backward_group<T: Precision>(
-        &self,
-        g: usize,
-        factor: Factor<'_, T>,
-        x: &mut [T],
-        work: &mut Vec<T>,
-    ) {
-        self.backward_nodes(&self.groups[g], factor, x, work);
     }
 
     /// Forward substitution of `nodes` (increasing), compiled for AVX2 when the CPU has it (the
@@ -390,10 +379,10 @@ impl TreeSplit {
 
 #[cfg(test)]
 impl TreeSplit {
-    /// Checks the split: every supernode is in one group or among the ancestors, exactly once,
-    /// and a group's node has its pattern's rows in its own group or among the ancestors (what
-    /// lets the groups run side by side). Returns the factor entries of the two groups and of
-    /// the ancestors.
+    /// Checks the split: every supernode is in one group or among the ancestors, exactly once; a
+    /// group's node has its pattern's rows in its own group or among the ancestors, an
+    /// ancestor's among the ancestors (what lets the groups run side by side, then the ancestors
+    /// alone). Returns the factor entries of the two groups and of the ancestors.
     pub(super) fn check(&self) -> Result<[usize; 3], String> {
         let ns = self.begin.len() - 1;
         let mut place = vec![usize::MAX; ns];
@@ -413,7 +402,7 @@ impl TreeSplit {
         for s in 0..ns {
             for &r in &self.rows[self.row_ptr[s]..self.row_ptr[s + 1]] {
                 let g = place[owner(r)];
-                if place[s] != 2 && g != place[s] && g != 2 {
+                if g != place[s] && g != 2 {
                     return Err(format!("supernode {s} updates row {r} of group {g}"));
                 }
             }

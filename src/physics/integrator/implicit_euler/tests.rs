@@ -4,6 +4,7 @@
 
 use super::cg::{Cg, Preconditioner};
 use super::cholesky::{Cholesky, Factored};
+use super::supernodal_solve::{BALANCE, PARALLEL_ENTRIES};
 use super::system::System;
 use super::{ImplicitEuler, AUTO_FIRST_WINDOW, AUTO_SLOW_ITERATIONS, AUTO_SLOW_STEPS};
 use crate::math::{Real, Vec3};
@@ -488,16 +489,18 @@ fn the_split_solve_is_the_same_on_one_thread_and_two() {
                 .solve(&system, &model, &mut dv)
                 .expect("positive definite");
             let entries = cholesky.split().expect("analysed").check().unwrap();
-            (dv, entries)
+            (dv, entries, cholesky.shares_solves())
         })
     };
-    let (one, [g0, g1, top]) = solve_on(1);
-    let (two, _) = solve_on(2);
+    let (one, [g0, g1, top], shared_on_one) = solve_on(1);
+    let (two, _, shared_on_two) = solve_on(2);
+    assert!(!shared_on_one && shared_on_two);
     assert!(one == two, "one thread and two differ");
-    assert!(g0 > 0 && g1 > 0 && g0.max(g1) as Real <= 0.55 * (g0 + g1) as Real);
+    assert!(g0 > 0 && g1 > 0 && g0.max(g1) as Real <= BALANCE * (g0 + g1) as Real);
+    let entries = g0 + g1 + top;
     assert!(
-        g0 + g1 >= 50_000,
-        "large enough to run on two threads: {g0} + {g1} + {top}"
+        entries >= PARALLEL_ENTRIES,
+        "large enough for two threads: {entries}"
     );
     let mut ax = vec![Vec3::zeros(); x.len()];
     system.apply(&model, &one, &mut ax);
