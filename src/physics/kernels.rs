@@ -38,18 +38,6 @@ pub(super) struct BendConstants {
     pub damping: Real,
 }
 
-/// Runs `$call` compiled for AVX2 when the CPU has it, else for the build's baseline.
-macro_rules! dispatch {
-    ($avx2:ident, $portable:ident :: <$($c:ident),*> ($($arg:expr),*)) => {{
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { $avx2::<$($c),*>($($arg),*) };
-        }
-        $portable::<$($c),*>($($arg),*)
-    }};
-}
-
 /// Springs `range` (4.8-4.9), added to `f`: `f_a = [k s / L + kd ((v_b - v_a) . d) / L²] d`,
 /// `d = x_b - x_a`, `s = L - L_rest` (clamped at 0 unless `BOTH`); `f_b = -f_a`. A spring with
 /// coincident ends has no direction and no force.

@@ -13,6 +13,18 @@
 //! registry) with one file per integrator under `integrator/`. Seed 004's single-particle
 //! experiments that compare the integrators live in `crate::study::integrators`.
 
+/// Runs `$call` (a generic function with its type parameters named) compiled for AVX2 when the CPU has it, else for the build's baseline.
+macro_rules! dispatch {
+    ($avx2:ident, $portable:ident :: <$($c:ident),*> ($($arg:expr),*)) => {{
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            return unsafe { $avx2::<$($c),*>($($arg),*) };
+        }
+        $portable::<$($c),*>($($arg),*)
+    }};
+}
+
 mod chunks;
 mod elements;
 mod forces;

@@ -223,12 +223,7 @@ fn refined_edges_age_and_are_forgotten_after_t_simplify() {
 /// refused gain; and `prune` forgets an old refusal without losing a newer one.
 #[test]
 fn an_energy_refused_region_waits_longer_each_time_unless_its_motion_can_pay() {
-    let mesh = union_jack(3, 3, 1.0, 1.0);
-    let x = mesh
-        .vertices()
-        .map(|v| Vec3::new(mesh.rest(v).x, mesh.rest(v).y, 0.0))
-        .collect();
-    let mut cloth = crate::testing::cloth(mesh, x);
+    let mut cloth = crate::testing::flat_cloth(3, Vec3::zeros());
     let (t_simplify, gain) = (0.1, 1e-6);
     let energy = Cause::Energy { gain };
     let (edge, other) = (e(0, 1), e(7, 8));
@@ -281,12 +276,7 @@ fn an_energy_refused_region_waits_longer_each_time_unless_its_motion_can_pay() {
 /// doubled by a further refusal), not to be refined.
 #[test]
 fn an_edge_the_mesher_could_not_coarsen_waits_to_be_coarsened_not_refined() {
-    let mesh = union_jack(3, 3, 1.0, 1.0);
-    let x = mesh
-        .vertices()
-        .map(|v| Vec3::new(mesh.rest(v).x, mesh.rest(v).y, 0.0))
-        .collect();
-    let cloth = crate::testing::cloth(mesh, x);
+    let cloth = crate::testing::flat_cloth(3, Vec3::zeros());
     let (edge, t_simplify) = (e(0, 1), 0.1);
     let mut s = Remesh::new();
     s.remember_refusal(&cloth.mesh, &[edge], 0.0, Cause::Coarsening, t_simplify);

@@ -199,24 +199,42 @@ impl TreeSplit {
         {
             let x1 = &mut *x;
             both(
-                &mut || self.forward_nodes(&self.groups[0], factor, copy, Some(sums0), work0),
-                &mut || self.forward_nodes(&self.groups[1], factor, x1, Some(sums1), work1),
+                &mut || {
+                    self.substitute(
+                        Pass::Forward,
+                        &self.groups[0],
+                        factor,
+                        copy,
+                        Some(sums0),
+                        work0,
+                    )
+                },
+                &mut || {
+                    self.substitute(
+                        Pass::Forward,
+                        &self.groups[1],
+                        factor,
+                        x1,
+                        Some(sums1),
+                        work1,
+                    )
+                },
             );
         }
         self.take_first_group(copy, x);
         for (k, &c) in self.top_columns.iter().enumerate() {
             x[c] += sums0[k] + sums1[k];
         }
-        self.forward_nodes(&self.top, factor, x, None, work0);
+        self.substitute(Pass::Forward, &self.top, factor, x, None, work0);
         // Backward, Lᵀ x = y: the ancestors, then the groups.
-        self.backward_nodes(&self.top, factor, x, work0);
+        self.substitute(Pass::Backward, &self.top, factor, x, None, work0);
         copy.clear();
         copy.extend_from_slice(x);
         {
             let x1 = &mut *x;
             both(
-                &mut || self.backward_nodes(&self.groups[0], factor, copy, work0),
-                &mut || self.backward_nodes(&self.groups[1], factor, x1, work1),
+                &mut || self.substitute(Pass::Backward, &self.groups[0], factor, copy, None, work0),
+                &mut || self.substitute(Pass::Backward, &self.groups[1], factor, x1, None, work1),
             );
         }
         self.take_first_group(copy, x);
@@ -230,63 +248,23 @@ impl TreeSplit {
         }
     }
 
-    /// Forward substitution of `nodes` (increasing), compiled for AVX2 when the CPU has it (the
-    /// same operations in the same order either way, no fused multiply-add: the same result).
-    fn forward_nodes<T: Precision>(
+    /// Substitutes `nodes` in `pass`: forward in increasing order (updates of an ancestor's row
+    /// into `sums` when given), backward in decreasing order (`sums` unused). Compiled for AVX2
+    /// when the CPU has it: the same operations in the same order either way, no fused
+    /// multiply-add, so the same result.
+    fn substitute<T: Precision>(
         &self,
+        pass: Pass,
         nodes: &[usize],
         factor: Factor<'_, T>,
         x: &mut [T],
         sums: Option<&mut [T]>,
         work: &mut Vec<T>,
     ) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { self.forward_nodes_avx2(nodes, factor, x, sums, work) };
-        }
-        self.forward_nodes_body(nodes, factor, x, sums, work)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn forward_nodes_avx2<T: Precision>(
-        &self,
-        nodes: &[usize],
-        factor: Factor<'_, T>,
-        x: &mut [T],
-        sums: Option<&mut [T]>,
-        work: &mut Vec<T>,
-    ) {
-        self.forward_nodes_body(nodes, factor, x, sums, work)
-    }
-
-    /// Backward substitution of `nodes` (taken decreasing), compiled as [`Self::forward_nodes`].
-    fn backward_nodes<T: Precision>(
-        &self,
-        nodes: &[usize],
-        factor: Factor<'_, T>,
-        x: &mut [T],
-        work: &mut Vec<T>,
-    ) {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2, checked just above.
-            return unsafe { self.backward_nodes_avx2(nodes, factor, x, work) };
-        }
-        self.backward_nodes_body(nodes, factor, x, work)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2")]
-    fn backward_nodes_avx2<T: Precision>(
-        &self,
-        nodes: &[usize],
-        factor: Factor<'_, T>,
-        x: &mut [T],
-        work: &mut Vec<T>,
-    ) {
-        self.backward_nodes_body(nodes, factor, x, work)
+        dispatch!(
+            substitute_avx2,
+            substitute_body::<T>(self, pass, nodes, factor, x, sums, work)
+        )
     }
 
     /// Supernode `s`'s block of `values`, its columns and its pattern.
@@ -413,6 +391,43 @@ impl TreeSplit {
                 .sum()
         };
         Ok(lists.map(|l| entries(l)))
+    }
+}
+
+/// Which substitution: `L y = b` or `Lᵀ x = y`.
+#[derive(Clone, Copy, Debug)]
+enum Pass {
+    Forward,
+    Backward,
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn substitute_avx2<T: Precision>(
+    split: &TreeSplit,
+    pass: Pass,
+    nodes: &[usize],
+    factor: Factor<'_, T>,
+    x: &mut [T],
+    sums: Option<&mut [T]>,
+    work: &mut Vec<T>,
+) {
+    substitute_body::<T>(split, pass, nodes, factor, x, sums, work)
+}
+
+#[inline(always)]
+fn substitute_body<T: Precision>(
+    split: &TreeSplit,
+    pass: Pass,
+    nodes: &[usize],
+    factor: Factor<'_, T>,
+    x: &mut [T],
+    sums: Option<&mut [T]>,
+    work: &mut Vec<T>,
+) {
+    match pass {
+        Pass::Forward => split.forward_nodes_body(nodes, factor, x, sums, work),
+        Pass::Backward => split.backward_nodes_body(nodes, factor, x, work),
     }
 }
 
