@@ -12,12 +12,13 @@
 //! neither do the results. Allocation-free in steady state.
 
 use super::assembly::{Pattern, Precision};
-use super::supernodal_solve::{Factor, SolveScratch, TreeSplit};
+use super::supernodal_solve::{inverse_diagonal, Factor, SolveScratch, TreeSplit};
 use super::system::System;
 use crate::math::{Mat3, Vec3};
 use crate::physics::ForceModel;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::llt::factor::LltRegularization;
+use faer::sparse::linalg::cholesky::supernodal::SymbolicSupernodalCholesky;
 use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, CholeskySymbolicParams, SymbolicCholesky, SymbolicCholeskyRaw,
     SymmetricOrdering,
@@ -87,15 +88,22 @@ impl<T: Precision> Numeric<T> {
                 Default::default(),
             )
             .map_err(|_| DirectFailure)?;
-        analysis
-            .split
-            .inverse_diagonal(&self.factor, &mut self.inverse_diagonal);
+        inverse_diagonal(
+            supernodal(symbolic),
+            &self.factor,
+            &mut self.inverse_diagonal,
+        );
         Ok(())
     }
 
     /// Solves with the factor of the last successful [`Numeric::factorize`] in `analysis`.
     fn solve(&mut self, analysis: &Analysis, b: &[Vec3], x: &mut [Vec3]) {
-        let Analysis { pattern, split, .. } = analysis;
+        let Analysis {
+            pattern,
+            symbolic,
+            split,
+            ..
+        } = analysis;
         let n = pattern.dim();
         self.rhs.clear();
         self.rhs.resize(n, T::from_f64(0.0));
@@ -106,6 +114,7 @@ impl<T: Precision> Numeric<T> {
             }
         }
         let factor = Factor {
+            symbolic: supernodal(symbolic),
             values: &self.factor,
             inverse_diagonal: &self.inverse_diagonal,
         };
@@ -232,7 +241,7 @@ impl Cholesky {
     pub(super) fn shares_solves(&self) -> bool {
         self.analysis
             .as_ref()
-            .is_some_and(|a| a.split.shares_solves())
+            .is_some_and(|a| a.split.shares_solves(supernodal(&a.symbolic)))
     }
 
     /// Solves `A x = b` (`b` in N s, `x` in m/s, one per slot) with the matrix of the last
@@ -250,9 +259,10 @@ impl Cholesky {
 
 #[cfg(test)]
 impl Cholesky {
-    /// The split of the current analysis's supernodes, if there is an analysis.
-    pub(super) fn split(&self) -> Option<&TreeSplit> {
-        self.analysis.as_ref().map(|a| &a.split)
+    /// [`TreeSplit::check`] of the current analysis's split, if there is an analysis.
+    pub(super) fn check_split(&self) -> Option<Result<[usize; 3], String>> {
+        let a = self.analysis.as_ref()?;
+        Some(a.split.check(supernodal(&a.symbolic)))
     }
 }
 
@@ -281,16 +291,21 @@ fn analyse<T: Precision>(pattern: Result<Pattern, FaerError>) -> Result<Analysis
     .map_err(|_| DirectFailure)?;
     let need = symbolic.factorize_numeric_llt_scratch::<T>(Par::Seq, Default::default());
     let scratch = MemBuffer::try_new(need).map_err(|_| DirectFailure)?;
-    let SymbolicCholeskyRaw::Supernodal(supernodal) = symbolic.raw() else {
-        unreachable!("the analysis is forced supernodal");
-    };
-    let split = TreeSplit::new(supernodal);
+    let split = TreeSplit::new(supernodal(&symbolic));
     Ok(Analysis {
         pattern,
         symbolic,
         scratch,
         split,
     })
+}
+
+/// The supernodal structure of `symbolic` (the analysis is forced supernodal).
+fn supernodal(symbolic: &SymbolicCholesky<usize>) -> &SymbolicSupernodalCholesky<usize> {
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Supernodal(supernodal) => supernodal,
+        SymbolicCholeskyRaw::Simplicial(_) => unreachable!("the analysis is forced supernodal"),
+    }
 }
 
 /// The transpose of the `n x n` compressed-column structure `(ptr, row)`, rows sorted in each

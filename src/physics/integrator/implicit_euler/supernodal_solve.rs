@@ -19,17 +19,10 @@ pub(super) const BALANCE: f64 = 0.55;
 /// Marks a column that is not an ancestor's in [`TreeSplit::top_index`].
 const NOT_TOP: u32 = u32::MAX;
 
-/// A factor's supernodes, their structure copied from faer's symbolic analysis, split into two
-/// groups of subtrees and their common ancestors.
+/// A factor's supernodes (by index in faer's symbolic analysis, which holds their structure)
+/// split into two groups of subtrees and their common ancestors.
 #[derive(Debug)]
 pub(super) struct TreeSplit {
-    /// First column of each supernode, then the dimension (`n_supernodes + 1` entries).
-    begin: Vec<usize>,
-    /// Each supernode's pattern (rows below its diagonal block, increasing) in `rows`.
-    row_ptr: Vec<usize>,
-    rows: Vec<usize>,
-    /// Each supernode's block in the factor's values (`n_supernodes + 1` offsets).
-    val_ptr: Vec<usize>,
     /// The supernodes of each group, increasing (a node's descendants come before it).
     groups: [Vec<usize>; 2],
     /// The common ancestors, increasing.
@@ -40,10 +33,12 @@ pub(super) struct TreeSplit {
     top_columns: Vec<usize>,
 }
 
-/// A numeric factor for a split: its values in faer's supernodal layout and the reciprocals of
-/// its diagonal ([`TreeSplit::inverse_diagonal`]).
+/// A numeric factor for a split: its symbolic structure (the analysis the split was made
+/// from), its values in faer's supernodal layout and the reciprocals of its diagonal
+/// ([`inverse_diagonal`]).
 #[derive(Clone, Copy, Debug)]
 pub(super) struct Factor<'a, T> {
+    pub(super) symbolic: &'a SymbolicSupernodalCholesky<usize>,
     pub(super) values: &'a [T],
     pub(super) inverse_diagonal: &'a [T],
 }
@@ -131,10 +126,6 @@ impl TreeSplit {
             top_index[c] = k as u32;
         }
         TreeSplit {
-            begin,
-            row_ptr,
-            rows,
-            val_ptr,
             groups,
             top,
             top_index,
@@ -142,28 +133,12 @@ impl TreeSplit {
         }
     }
 
-    /// The reciprocals of `values`' diagonal (faer's supernodal layout for the analysis this
-    /// split was made from), one per column, into `inverse`: the solves multiply by them, a
-    /// division's latency being most of a column's cost on the substitutions' critical path.
-    pub(super) fn inverse_diagonal<T: Precision>(&self, values: &[T], inverse: &mut Vec<T>) {
-        inverse.clear();
-        for s in 0..self.begin.len() - 1 {
-            let (nc, np) = (
-                self.begin[s + 1] - self.begin[s],
-                self.row_ptr[s + 1] - self.row_ptr[s],
-            );
-            let block = &values[self.val_ptr[s]..self.val_ptr[s + 1]];
-            let one = T::from_f64(1.0);
-            inverse.extend((0..nc).map(|j| one / block[j * (nc + np) + j]));
-        }
-    }
-
-    /// True when a solve shares its groups between two threads: on a thread of a pool that can
-    /// help ([`crate::parallel::pool_thread_can_share`]), both groups holding supernodes and the
+    /// True when a solve with a factor of `symbolic` (the analysis this split was made from)
+    /// shares its groups between two threads: on a thread of a pool that can help
+    /// ([`crate::parallel::pool_thread_can_share`]), both groups holding supernodes and the
     /// factor at least `PARALLEL_ENTRIES` entries.
-    pub(super) fn shares_solves(&self) -> bool {
-        let entries = self.val_ptr.last().copied().unwrap_or(0);
-        entries >= PARALLEL_ENTRIES
+    pub(super) fn shares_solves(&self, symbolic: &SymbolicSupernodalCholesky<usize>) -> bool {
+        symbolic.len_val() >= PARALLEL_ENTRIES
             && self.groups.iter().all(|g| !g.is_empty())
             && crate::parallel::pool_thread_can_share()
     }
@@ -180,7 +155,7 @@ impl TreeSplit {
         let SolveScratch { copy, sums, work } = scratch;
         let [sums0, sums1] = sums;
         let [work0, work1] = work;
-        let parallel = self.shares_solves();
+        let parallel = self.shares_solves(factor.symbolic);
         let both = |a: &mut (dyn FnMut() + Send), b: &mut (dyn FnMut() + Send)| {
             if parallel {
                 rayon::join(a, b);
@@ -221,7 +196,7 @@ impl TreeSplit {
                 },
             );
         }
-        self.take_first_group(copy, x);
+        self.take_first_group(factor.symbolic, copy, x);
         for (k, &c) in self.top_columns.iter().enumerate() {
             x[c] += sums0[k] + sums1[k];
         }
@@ -237,13 +212,18 @@ impl TreeSplit {
                 &mut || self.substitute(Pass::Backward, &self.groups[1], factor, x1, None, work1),
             );
         }
-        self.take_first_group(copy, x);
+        self.take_first_group(factor.symbolic, copy, x);
     }
 
     /// Copies the first group's columns from `from` (where that group was solved) into `x`.
-    fn take_first_group<T: Precision>(&self, from: &[T], x: &mut [T]) {
+    fn take_first_group<T: Precision>(
+        &self,
+        symbolic: &SymbolicSupernodalCholesky<usize>,
+        from: &[T],
+        x: &mut [T],
+    ) {
         for &s in &self.groups[0] {
-            let cols = self.begin[s]..self.begin[s + 1];
+            let cols = columns(symbolic, s);
             x[cols.clone()].copy_from_slice(&from[cols]);
         }
     }
@@ -267,20 +247,6 @@ impl TreeSplit {
         )
     }
 
-    /// Supernode `s`'s block of `values`, its columns and its pattern.
-    #[inline(always)]
-    fn node<'a, T>(
-        &'a self,
-        s: usize,
-        factor: Factor<'a, T>,
-    ) -> (&'a [T], std::ops::Range<usize>, &'a [usize]) {
-        (
-            &factor.values[self.val_ptr[s]..self.val_ptr[s + 1]],
-            self.begin[s]..self.begin[s + 1],
-            &self.rows[self.row_ptr[s]..self.row_ptr[s + 1]],
-        )
-    }
-
     /// Forward substitution of each of `nodes` in turn: its columns of `x` solved with its
     /// diagonal block, then its pattern's rows updated, those of an ancestor into `sums` when
     /// given (a group's nodes).
@@ -295,7 +261,7 @@ impl TreeSplit {
     ) {
         let zero = T::from_f64(0.0);
         for &s in nodes {
-            let (block, cols, pattern) = self.node(s, factor);
+            let (block, cols, pattern) = node(s, factor);
             let (nc, nr) = (cols.len(), cols.len() + pattern.len());
             work.clear();
             work.extend_from_slice(&x[cols.clone()]);
@@ -336,7 +302,7 @@ impl TreeSplit {
         work: &mut Vec<T>,
     ) {
         for &s in nodes.iter().rev() {
-            let (block, cols, pattern) = self.node(s, factor);
+            let (block, cols, pattern) = node(s, factor);
             let (nc, nr) = (cols.len(), cols.len() + pattern.len());
             work.clear();
             work.extend_from_slice(&x[cols.clone()]);
@@ -361,8 +327,13 @@ impl TreeSplit {
     /// group's node has its pattern's rows in its own group or among the ancestors, an
     /// ancestor's among the ancestors (what lets the groups run side by side, then the ancestors
     /// alone). Returns the factor entries of the two groups and of the ancestors.
-    pub(super) fn check(&self) -> Result<[usize; 3], String> {
-        let ns = self.begin.len() - 1;
+    pub(super) fn check(
+        &self,
+        symbolic: &SymbolicSupernodalCholesky<usize>,
+    ) -> Result<[usize; 3], String> {
+        let ns = symbolic.n_supernodes();
+        let begin = symbolic.supernode_begin();
+        let offsets = symbolic.col_ptr_for_val();
         let mut place = vec![usize::MAX; ns];
         let lists = [&self.groups[0], &self.groups[1], &self.top];
         for (g, list) in lists.iter().enumerate() {
@@ -376,21 +347,57 @@ impl TreeSplit {
         if let Some(s) = place.iter().position(|&g| g == usize::MAX) {
             return Err(format!("supernode {s} placed nowhere"));
         }
-        let owner = |r: usize| self.begin.partition_point(|&b| b <= r) - 1;
+        let owner = |r: usize| begin.partition_point(|&b| b <= r) - 1;
         for s in 0..ns {
-            for &r in &self.rows[self.row_ptr[s]..self.row_ptr[s + 1]] {
+            for &r in symbolic.supernode(s).pattern() {
                 let g = place[owner(r)];
                 if g != place[s] && g != 2 {
                     return Err(format!("supernode {s} updates row {r} of group {g}"));
                 }
             }
         }
-        let entries = |list: &[usize]| -> usize {
-            list.iter()
-                .map(|&s| self.val_ptr[s + 1] - self.val_ptr[s])
-                .sum()
-        };
+        let entries =
+            |list: &[usize]| -> usize { list.iter().map(|&s| offsets[s + 1] - offsets[s]).sum() };
         Ok(lists.map(|l| entries(l)))
+    }
+}
+
+/// The columns of supernode `s` of `symbolic`.
+#[inline(always)]
+fn columns(symbolic: &SymbolicSupernodalCholesky<usize>, s: usize) -> std::ops::Range<usize> {
+    symbolic.supernode_begin()[s]..symbolic.supernode_end()[s]
+}
+
+/// Supernode `s`'s block of `factor`'s values, its columns and its pattern.
+#[inline(always)]
+fn node<T>(s: usize, factor: Factor<'_, T>) -> (&[T], std::ops::Range<usize>, &[usize]) {
+    let offsets = factor.symbolic.col_ptr_for_val();
+    (
+        &factor.values[offsets[s]..offsets[s + 1]],
+        columns(factor.symbolic, s),
+        factor.symbolic.supernode(s).pattern(),
+    )
+}
+
+/// The reciprocals of the diagonal of a factor of `symbolic` with `values` (faer's supernodal
+/// layout), one per column, into `inverse`: the solves multiply by them, a division's latency
+/// being most of a column's cost on the substitutions' critical path.
+pub(super) fn inverse_diagonal<T: Precision>(
+    symbolic: &SymbolicSupernodalCholesky<usize>,
+    values: &[T],
+    inverse: &mut Vec<T>,
+) {
+    inverse.clear();
+    let one = T::from_f64(1.0);
+    let factor = Factor {
+        symbolic,
+        values,
+        inverse_diagonal: &[],
+    };
+    for s in 0..symbolic.n_supernodes() {
+        let (block, cols, pattern) = node(s, factor);
+        let nr = cols.len() + pattern.len();
+        inverse.extend((0..cols.len()).map(|j| one / block[j * nr + j]));
     }
 }
 
