@@ -11,7 +11,6 @@
 //! are no chunks: the mesh is swept in one piece.
 
 use super::elements::{Bends, Springs};
-use super::kernels::Window;
 use crate::math::Vec3;
 use std::ops::Range;
 
@@ -31,6 +30,141 @@ pub(super) struct Chunk {
     pub bends: Range<usize>,
     /// The vertex slots the chunk's elements touch.
     pub window: Range<usize>,
+}
+
+/// The entries of the vertex slots `first..first + values.len()` of a per-slot array (forces by
+/// default): a sweep of a chunk adds to them and touches no other slot.
+pub(super) struct Window<'a, T = Vec3> {
+    pub values: &'a mut [T],
+    pub first: usize,
+}
+
+impl<T> Window<'_, T> {
+    /// The same window, borrowed again (for a second sweep over it).
+    pub fn reborrow(&mut self) -> Window<'_, T> {
+        Window {
+            values: &mut *self.values,
+            first: self.first,
+        }
+    }
+}
+
+/// Which of a chunk's ranges indexes an array: its springs or its bending elements (an array
+/// by slots is a [`Window`]).
+#[derive(Clone, Copy, Debug)]
+pub(super) enum Indexed {
+    Springs,
+    Bends,
+}
+
+impl Indexed {
+    fn range(self, chunk: &Chunk) -> &Range<usize> {
+        match self {
+            Indexed::Springs => &chunk.springs,
+            Indexed::Bends => &chunk.bends,
+        }
+    }
+}
+
+/// The part `first..first + values.len()` of an array indexed by slots, springs or bending
+/// elements, for the chunks whose ranges lie in it; or an empty array, for none.
+pub(super) struct Part<'a, T> {
+    pub values: &'a mut [T],
+    pub first: usize,
+    pub by: Indexed,
+}
+
+impl<'a, T> Part<'a, T> {
+    /// The whole of `values`, indexed `by`.
+    pub fn whole(values: &'a mut [T], by: Indexed) -> Self {
+        Part {
+            values,
+            first: 0,
+            by,
+        }
+    }
+}
+
+/// What a chunked sweep hands each chunk: parts of arrays that split where a chunk's ranges
+/// start (the chunks' ranges are in order and the windows of chunks `t` and `t + 2` apart).
+pub(super) trait Parts: Send + Sized {
+    /// The parts before chunk `at`'s ranges and from them on.
+    fn split_before(self, at: &Chunk) -> (Self, Self);
+    /// Only chunk `chunk`'s ranges.
+    fn narrow(self, chunk: &Chunk) -> Self;
+}
+
+impl<T: Send> Parts for Window<'_, T> {
+    fn split_before(self, at: &Chunk) -> (Self, Self) {
+        let split = at.window.start;
+        let (left, right) = self.values.split_at_mut(split - self.first);
+        let left = Window {
+            values: left,
+            first: self.first,
+        };
+        (
+            left,
+            Window {
+                values: right,
+                first: split,
+            },
+        )
+    }
+
+    fn narrow(self, chunk: &Chunk) -> Self {
+        let w = &chunk.window;
+        Window {
+            values: &mut self.values[w.start - self.first..w.end - self.first],
+            first: w.start,
+        }
+    }
+}
+
+impl<T: Send> Parts for Part<'_, T> {
+    fn split_before(self, at: &Chunk) -> (Self, Self) {
+        // An empty part (an array a sweep does not use) stays empty on both sides.
+        let split = if self.values.is_empty() {
+            self.first
+        } else {
+            self.by.range(at).start
+        };
+        let (left, right) = self.values.split_at_mut(split - self.first);
+        let (first, by) = (self.first, self.by);
+        let left = Part {
+            values: left,
+            first,
+            by,
+        };
+        let right = Part {
+            values: right,
+            first: split,
+            by,
+        };
+        (left, right)
+    }
+
+    fn narrow(self, chunk: &Chunk) -> Self {
+        if self.values.is_empty() {
+            return self;
+        }
+        let r = self.by.range(chunk);
+        Part {
+            values: &mut self.values[r.start - self.first..r.end - self.first],
+            first: r.start,
+            by: self.by,
+        }
+    }
+}
+
+impl<A: Parts, B: Parts> Parts for (A, B) {
+    fn split_before(self, at: &Chunk) -> (Self, Self) {
+        let (a, b) = (self.0.split_before(at), self.1.split_before(at));
+        ((a.0, b.0), (a.1, b.1))
+    }
+
+    fn narrow(self, chunk: &Chunk) -> Self {
+        (self.0.narrow(chunk), self.1.narrow(chunk))
+    }
 }
 
 /// The chunks of a mesh's elements; empty when the mesh is swept in one piece.
@@ -118,47 +252,46 @@ impl Chunks {
         self.parts.is_empty()
     }
 
-    /// Runs `work` on every chunk with the forces of its window, the even chunks then the odd
-    /// ones, on the threads of the current rayon pool; `forces` holds one entry per slot.
-    pub fn sweep(&self, forces: &mut [Vec3], work: &(impl Fn(&Chunk, Window) + Sync)) {
+    /// Runs `work` on the chunks of `phase` (0: the even chunks, 1: the odd ones; the even ones
+    /// first) with their parts of `parts` (arrays whose ranges cover every chunk's), on the
+    /// threads of the current rayon pool.
+    pub fn sweep_phase<P: Parts>(
+        &self,
+        phase: usize,
+        parts: P,
+        work: &(impl Fn(&Chunk, P) + Sync),
+    ) {
         let parallel = crate::parallel::pool_can_help();
-        for phase in 0..2 {
-            let count = (self.parts.len() + 1 - phase) / 2;
-            self.run(phase, 0..count, forces, 0, work, parallel);
+        let count = (self.parts.len() + 1 - phase) / 2;
+        if count > 0 {
+            self.run(phase, 0..count, parts, work, parallel);
         }
     }
 
-    /// Chunks `phase + 2 k` for `k` in `ks`, whose windows lie in `forces` (slots from `first`).
-    fn run(
+    /// Chunks `phase + 2 k` for `k` in `ks`, whose ranges lie in `parts`.
+    fn run<P: Parts>(
         &self,
         phase: usize,
         ks: Range<usize>,
-        forces: &mut [Vec3],
-        first: usize,
-        work: &(impl Fn(&Chunk, Window) + Sync),
+        parts: P,
+        work: &(impl Fn(&Chunk, P) + Sync),
         parallel: bool,
     ) {
         if ks.len() == 1 {
             let chunk = &self.parts[phase + 2 * ks.start];
-            let w = &chunk.window;
-            let window = Window {
-                forces: &mut forces[w.start - first..w.end - first],
-                first: w.start,
-            };
-            work(chunk, window);
+            work(chunk, parts.narrow(chunk));
             return;
         }
         let (start, mid, end) = (ks.start, ks.start + ks.len() / 2, ks.end);
-        let split = self.parts[phase + 2 * mid].window.start;
-        let (left, right) = forces.split_at_mut(split - first);
+        let (left, right) = parts.split_before(&self.parts[phase + 2 * mid]);
         if parallel {
             rayon::join(
-                || self.run(phase, start..mid, left, first, work, true),
-                || self.run(phase, mid..end, right, split, work, true),
+                || self.run(phase, start..mid, left, work, true),
+                || self.run(phase, mid..end, right, work, true),
             );
         } else {
-            self.run(phase, start..mid, left, first, work, false);
-            self.run(phase, mid..end, right, split, work, false);
+            self.run(phase, start..mid, left, work, false);
+            self.run(phase, mid..end, right, work, false);
         }
     }
 }

@@ -6,10 +6,10 @@
 //! are resolved once per call into a monomorphised kernel, so a disabled force is never evaluated
 //! and the inner loops carry no per-element switch test. Evaluation allocates nothing.
 
-use super::chunks::{Chunk, Chunks};
+use super::chunks::{Chunk, Chunks, Parts, Window};
 use super::elements::{Bends, Springs};
 use super::integrator::Dynamics;
-use super::kernels::{bend_forces, spring_forces, BendConstants, Window};
+use super::kernels::{bend_forces, spring_forces, BendConstants};
 use super::params::{Forces, Material, SpringMode};
 use crate::math::{Real, Vec3};
 use crate::mesh::{Mesh, VertexId};
@@ -27,6 +27,9 @@ pub(super) const DEGENERATE_RATIO: Real = 1e-12;
 /// still sum to zero with zero torque; the references never come near it (smallest ratio 0.37).
 /// See docs/model-notes.md, "Sliver bending".
 pub(crate) const SLIVER_RATIO: Real = 0.05;
+
+/// The phases of a chunked sweep: the even chunks, then the odd ones.
+pub(super) const SWEEP_PHASES: [usize; 2] = [0, 1];
 
 /// A spring sweep over a range of springs, for one combination of the force switches.
 type SpringKernel = fn(&Springs, Range<usize>, &[Vec3], &[Vec3], Window);
@@ -224,6 +227,32 @@ impl ForceModel {
         &self.bends
     }
 
+    /// Runs `work` on phase `phase` of the elements' chunks (see [`SWEEP_PHASES`]) with their
+    /// parts of `parts` (arrays over every slot, spring or bending element), on the threads of the
+    /// pool; a mesh without chunks is one chunk of every element, swept in the first phase.
+    pub(super) fn sweep_phase<P: Parts>(
+        &self,
+        phase: usize,
+        parts: P,
+        work: &(impl Fn(&Chunk, P) + Sync),
+    ) {
+        if !self.chunks.is_empty() {
+            self.chunks.sweep_phase(phase, parts, work);
+        } else if phase == 0 {
+            let whole = Chunk {
+                springs: 0..self.springs.len(),
+                bends: 0..self.bends.len(),
+                window: 0..self.mass.len(),
+            };
+            work(&whole, parts);
+        }
+    }
+
+    /// True when the elements are split in chunks (so sweeps share the pool's threads).
+    pub(super) fn is_chunked(&self) -> bool {
+        !self.chunks.is_empty()
+    }
+
     /// Sum of all vertex masses, pinned included (kg): `rho T` x the mesh rest area.
     pub fn total_mass(&self) -> Real {
         self.total_mass
@@ -298,14 +327,12 @@ impl ForceModel {
                 kernel(&self.bends, bend_range, k, x, v, window);
             }
         };
-        if self.chunks.is_empty() {
+        for phase in SWEEP_PHASES {
             let window = Window {
-                forces: f,
+                values: &mut *f,
                 first: 0,
             };
-            sweep(0..self.springs.len(), 0..self.bends.len(), window);
-        } else {
-            self.chunks.sweep(f, &|chunk: &Chunk, window| {
+            self.sweep_phase(phase, window, &|chunk: &Chunk, window| {
                 sweep(chunk.springs.clone(), chunk.bends.clone(), window)
             });
         }

@@ -6,6 +6,7 @@
 //! arithmetic is the scalar formulas' own, operation for operation, so the forces are bit for bit
 //! those of [`bend_modes`] and the spring formula, on every CPU (tested).
 
+use super::chunks::Window;
 use super::elements::{Bends, Springs};
 #[cfg(doc)]
 use super::forces::bend_modes;
@@ -13,23 +14,6 @@ use super::forces::{DEGENERATE_RATIO, SLIVER_RATIO};
 use super::lanes::{block_ends, block_values, slot_bounds, Lanes, Vec3Lanes, LANES};
 use crate::math::{Real, Vec3};
 use std::ops::Range;
-
-/// The force accumulators of the vertex slots `first..first + forces.len()`: a sweep adds to them
-/// and touches no other slot.
-pub(super) struct Window<'a> {
-    pub forces: &'a mut [Vec3],
-    pub first: usize,
-}
-
-impl Window<'_> {
-    /// The same window, borrowed again (for a second sweep over it).
-    pub fn reborrow(&mut self) -> Window<'_> {
-        Window {
-            forces: &mut *self.forces,
-            first: self.first,
-        }
-    }
-}
 
 /// The bending stiffness `k_b` (N m) and damping `k_bd` (N m s) of the material.
 #[derive(Clone, Copy, Debug)]
@@ -103,7 +87,7 @@ fn spring_blocks<const ELASTIC: bool, const DAMP: bool, const BOTH: bool>(
     v: &[Vec3],
     f: Window,
 ) {
-    let Window { forces: f, first } = f;
+    let Window { values: f, first } = f;
     let mut sum = RunningSum::default();
     for start in range.clone().step_by(LANES) {
         let live = (range.end - start).min(LANES);
@@ -221,7 +205,7 @@ fn bend_blocks<const ELASTIC: bool, const DAMP: bool>(
     v: &[Vec3],
     f: Window,
 ) {
-    let Window { forces: f, first } = f;
+    let Window { values: f, first } = f;
     for start in range.clone().step_by(LANES) {
         let live = (range.end - start).min(LANES);
         bend_block::<ELASTIC, DAMP>(bends, start, live, k, x, v, f, first);

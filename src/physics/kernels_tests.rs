@@ -84,7 +84,10 @@ fn bits(f: &[Vec3]) -> Vec<[u64; 3]> {
 
 /// Every slot's forces.
 fn whole(forces: &mut [Vec3]) -> Window<'_> {
-    Window { forces, first: 0 }
+    Window {
+        values: forces,
+        first: 0,
+    }
 }
 
 /// Runs a kernel on a zeroed force buffer.
@@ -298,7 +301,7 @@ fn slots_outside_the_window_or_the_state_panic() {
         assert!(panics(&|| {
             let mut f = vec![Vec3::zeros(); n];
             let w = Window {
-                forces: &mut f[from..to],
+                values: &mut f[from..to],
                 first: from,
             };
             spring_forces::<true, true, false>(&springs, 0..springs.len(), &x, &v, w)
@@ -306,7 +309,7 @@ fn slots_outside_the_window_or_the_state_panic() {
         assert!(panics(&|| {
             let mut f = vec![Vec3::zeros(); n];
             let w = Window {
-                forces: &mut f[from..to],
+                values: &mut f[from..to],
                 first: from,
             };
             bend_forces::<true, true>(&bends, 0..bends.len(), kb, &x, &v, w)

@@ -258,11 +258,12 @@ impl ImplicitEuler {
             };
         }
         let interrupt = self.interrupt.as_deref();
-        let shared = self.springs_factor.shares_solves();
+        // Two triangular solves and a product an iteration, shared by two threads when the
+        // factor is large or the model is chunked: keep the other awake.
+        let shared = self.springs_factor.shares_solves() || model.is_chunked();
         let factor = Preconditioner::Factor(&mut self.springs_factor);
         let (cg, system, dv) = (&mut self.cg, &self.system, &mut self.dv);
         let solve = || cg.solve(system, model, interrupt, factor, dv);
-        // Two triangular solves an iteration, each shared by two threads: keep the other awake.
         let pcg = if shared {
             crate::parallel::with_partner_awake(solve)
         } else {

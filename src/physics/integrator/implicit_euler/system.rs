@@ -13,7 +13,8 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::math::{Mat3, Real, Vec3};
-use crate::physics::forces::bend_modes;
+use crate::physics::chunks::{Chunk, Indexed, Part, Window};
+use crate::physics::forces::{bend_modes, SWEEP_PHASES};
 use crate::physics::{ForceModel, SpringMode};
 
 /// The assembled pieces of `S A S` and `S b` for one step; buffers are reused across steps.
@@ -37,8 +38,9 @@ pub(super) struct System {
 
 impl System {
     /// Builds the system of the step of size `dt` (s) from positions `x` (m), velocities `v`
-    /// (m/s) and the total forces `f` (N) at that state. Allocation-free once the buffers have
-    /// grown to the mesh.
+    /// (m/s) and the total forces `f` (N) at that state, the elements' terms by chunks on the
+    /// threads of the pool (the same sums in the same order on any number of threads).
+    /// Allocation-free once the buffers have grown to the mesh.
     pub(super) fn build(
         &mut self,
         model: &ForceModel,
@@ -48,11 +50,17 @@ impl System {
         f: &[Vec3],
     ) {
         let n = x.len();
-        let sp = model.springs();
-        let ns = sp.len();
         let sw = model.switches();
-        let both = model.material().springs == SpringMode::Both;
-        self.spring_blocks.resize(ns, Mat3::zeros());
+        let terms = Terms::of(model, dt);
+        let bends = if terms.bending {
+            model.bends().len()
+        } else {
+            0
+        };
+        self.spring_blocks
+            .resize(model.springs().len(), Mat3::zeros());
+        self.bend_u.resize(bends, [Vec3::zeros(); 4]);
+        self.bend_w.resize(bends, 0.0);
         self.diag_blocks.resize(n, Mat3::zeros());
         self.diag.resize(n, 0.0);
         self.b.resize(n, Vec3::zeros());
@@ -62,34 +70,28 @@ impl System {
             self.diag_blocks[i] = Mat3::identity() * self.diag[i];
             self.b[i] = f[i];
         }
-        let dt2 = dt * dt;
-        for j in 0..ns {
-            let (a, b) = (sp.a[j] as usize, sp.b[j] as usize);
-            let d = x[b] - x[a];
-            let len2 = d.norm_squared();
-            let (mut kj, mut dj) = (Mat3::zeros(), Mat3::zeros());
-            if len2 > 0.0 {
-                let len = len2.sqrt();
-                let u = d / len;
-                let uu = u * u.transpose();
-                if sw.springs && (both || len > sp.rest_length[j]) {
-                    let geo = (1.0 - sp.rest_length[j] / len).max(0.0);
-                    kj = (uu + (Mat3::identity() - uu) * geo) * sp.k[j];
-                }
-                if sw.spring_damping {
-                    dj = uu * sp.kd[j];
-                }
-            }
-            let bj = dj * dt + kj * dt2;
-            self.spring_blocks[j] = bj;
-            self.diag_blocks[a] += bj;
-            self.diag_blocks[b] += bj;
-            // f + dt K v: (K v)_a = K_j (v_b - v_a), (K v)_b = -K_j (v_b - v_a).
-            let kv = kj * (v[b] - v[a]) * dt;
-            self.b[a] += kv;
-            self.b[b] -= kv;
+        for phase in SWEEP_PHASES {
+            let slots = (
+                Window {
+                    values: &mut self.diag_blocks[..],
+                    first: 0,
+                },
+                Window {
+                    values: &mut self.b[..],
+                    first: 0,
+                },
+            );
+            let elements = (
+                Part::whole(&mut self.spring_blocks, Indexed::Springs),
+                (
+                    Part::whole(&mut self.bend_u, Indexed::Bends),
+                    Part::whole(&mut self.bend_w, Indexed::Bends),
+                ),
+            );
+            model.sweep_phase(phase, (slots, elements), &|chunk: &Chunk, parts| {
+                terms.add(model, chunk, x, v, parts)
+            });
         }
-        self.build_bending(model, dt, x, v);
         let w = model.inv_mass();
         for i in 0..n {
             self.b[i] *= dt;
@@ -100,71 +102,152 @@ impl System {
         }
     }
 
-    /// Bending, Gauss-Newton: `B = w u uᵀ` with `w = dt² (c/2) + dt k_bd |e|`, and its part of
-    /// the right-hand side (before the final factor `dt`).
-    fn build_bending(&mut self, model: &ForceModel, dt: Real, x: &[Vec3], v: &[Vec3]) {
-        self.bend_u.clear();
-        self.bend_w.clear();
-        let sw = model.switches();
-        if !(sw.bending || sw.bending_damping) {
-            return;
-        }
-        let kb = if sw.bending {
-            model.material().k_b
-        } else {
-            0.0
-        };
-        let kbd = if sw.bending_damping {
-            model.material().k_bd
-        } else {
-            0.0
-        };
-        for &ids in &model.bends().v {
-            let ids = ids.map(|i| i as usize);
-            let Some(m) = bend_modes(x[ids[0]], x[ids[1]], x[ids[2]], x[ids[3]]) else {
-                self.bend_u.push([Vec3::zeros(); 4]);
-                self.bend_w.push(0.0);
-                continue;
-            };
-            let stiff = 0.5 * kb * m.elastic_scale;
-            let wgt = dt * dt * stiff + dt * kbd * m.damping_scale;
-            let uv: Real = (0..4).map(|k| m.u[k].dot(&v[ids[k]])).sum();
-            for k in 0..4 {
-                self.diag_blocks[ids[k]] += m.u[k] * m.u[k].transpose() * wgt;
-                // dt K v with K = -stiff u uᵀ.
-                self.b[ids[k]] -= m.u[k] * (dt * stiff * uv);
-            }
-            self.bend_u.push(m.u);
-            self.bend_w.push(wgt);
-        }
-    }
-
     /// `q = A_f p` (N s for `p` in m/s) for a `p` that is 0 at every fixed slot (as CG's
-    /// iterates are), swept over the elements like the force kernel; `q` is 0 at fixed slots.
-    /// `model` must be the one the system was built from.
+    /// iterates are), swept over the elements like the force kernel, by the same chunks on the
+    /// threads of the pool (the same sums in the same order on any number of threads); `q` is 0
+    /// at fixed slots. `model` must be the one the system was built from.
     pub(super) fn apply(&self, model: &ForceModel, p: &[Vec3], q: &mut [Vec3]) {
-        let sp = model.springs();
-        let w = model.inv_mass();
         for i in 0..p.len() {
             q[i] = p[i] * self.diag[i];
         }
-        for j in 0..sp.len() {
-            let (a, b) = (sp.a[j] as usize, sp.b[j] as usize);
-            let t = self.spring_blocks[j] * (p[a] - p[b]);
-            q[a] += t;
-            q[b] -= t;
+        for phase in SWEEP_PHASES {
+            let window = Window {
+                values: &mut *q,
+                first: 0,
+            };
+            model.sweep_phase(phase, window, &|chunk: &Chunk, window| {
+                self.apply_elements(model, chunk, p, window)
+            });
         }
-        let bends = model.bends().v.iter().zip(&self.bend_u).zip(&self.bend_w);
-        for ((ids, u), &wgt) in bends {
-            let s: Real = (0..4).map(|k| u[k].dot(&p[ids[k] as usize])).sum();
-            for k in 0..4 {
-                q[ids[k] as usize] += u[k] * (s * wgt);
-            }
-        }
-        for (qi, &wi) in q.iter_mut().zip(w) {
+        for (qi, &wi) in q.iter_mut().zip(model.inv_mass()) {
             if wi == 0.0 {
                 *qi = Vec3::zeros();
             }
+        }
+    }
+
+    /// Adds the products of `chunk`'s springs and bending elements with `p` to the window of
+    /// its slots.
+    fn apply_elements(&self, model: &ForceModel, chunk: &Chunk, p: &[Vec3], window: Window) {
+        let Window { values: q, first } = window;
+        let sp = model.springs();
+        for j in chunk.springs.clone() {
+            let (a, b) = (sp.a[j] as usize, sp.b[j] as usize);
+            let t = self.spring_blocks[j] * (p[a] - p[b]);
+            q[a - first] += t;
+            q[b - first] -= t;
+        }
+        if self.bend_u.is_empty() {
+            return;
+        }
+        for e in chunk.bends.clone() {
+            let (ids, u, wgt) = (model.bends().v[e], &self.bend_u[e], self.bend_w[e]);
+            let s: Real = (0..4).map(|k| u[k].dot(&p[ids[k] as usize])).sum();
+            for k in 0..4 {
+                q[ids[k] as usize - first] += u[k] * (s * wgt);
+            }
+        }
+    }
+}
+
+/// The parts of the system's arrays a chunk of elements adds to: the diagonal blocks and the
+/// right-hand side by slot; the springs' blocks; the bending elements' modes and weights.
+type BuildParts<'a> = (
+    (Window<'a, Mat3>, Window<'a, Vec3>),
+    (Part<'a, Mat3>, (Part<'a, [Vec3; 4]>, Part<'a, Real>)),
+);
+
+/// What the elements' terms of one step's system need besides the state.
+struct Terms {
+    /// The step `dt` (s) and its square (s²).
+    dt: Real,
+    dt2: Real,
+    /// Springs act in compression too (`SpringMode::Both`).
+    both: bool,
+    springs: bool,
+    spring_damping: bool,
+    /// Bending or its damping is on (else the system has no bending terms).
+    bending: bool,
+    /// The bending stiffness `k_b` (N m) and damping `k_bd` (N m s), 0 where switched off.
+    kb: Real,
+    kbd: Real,
+}
+
+impl Terms {
+    fn of(model: &ForceModel, dt: Real) -> Terms {
+        let sw = model.switches();
+        let material = model.material();
+        Terms {
+            dt,
+            dt2: dt * dt,
+            both: material.springs == SpringMode::Both,
+            springs: sw.springs,
+            spring_damping: sw.spring_damping,
+            bending: sw.bending || sw.bending_damping,
+            kb: if sw.bending { material.k_b } else { 0.0 },
+            kbd: if sw.bending_damping {
+                material.k_bd
+            } else {
+                0.0
+            },
+        }
+    }
+
+    /// Adds the terms of `chunk`'s springs and bending elements to its parts: per spring
+    /// `B_j = dt D_j + dt² K_j` and `dt K_j (v_b - v_a)` on the right-hand side; per bending
+    /// element (Gauss-Newton) `B = w u uᵀ` with `w = dt² (k_b/2) |e|²/(|N1|+|N2|) + dt k_bd
+    /// |e|` and its part of the right-hand side (before the final factor `dt`).
+    fn add(&self, model: &ForceModel, chunk: &Chunk, x: &[Vec3], v: &[Vec3], parts: BuildParts) {
+        let ((diag, b), (blocks, (bend_u, bend_w))) = parts;
+        let (first, diag, b) = (diag.first, diag.values, b.values);
+        let sp = model.springs();
+        for j in chunk.springs.clone() {
+            let (ia, ib) = (sp.a[j] as usize, sp.b[j] as usize);
+            let d = x[ib] - x[ia];
+            let len2 = d.norm_squared();
+            let (mut kj, mut dj) = (Mat3::zeros(), Mat3::zeros());
+            if len2 > 0.0 {
+                let len = len2.sqrt();
+                let u = d / len;
+                let uu = u * u.transpose();
+                if self.springs && (self.both || len > sp.rest_length[j]) {
+                    let geo = (1.0 - sp.rest_length[j] / len).max(0.0);
+                    kj = (uu + (Mat3::identity() - uu) * geo) * sp.k[j];
+                }
+                if self.spring_damping {
+                    dj = uu * sp.kd[j];
+                }
+            }
+            let bj = dj * self.dt + kj * self.dt2;
+            blocks.values[j - blocks.first] = bj;
+            diag[ia - first] += bj;
+            diag[ib - first] += bj;
+            // f + dt K v: (K v)_a = K_j (v_b - v_a), (K v)_b = -K_j (v_b - v_a).
+            let kv = kj * (v[ib] - v[ia]) * self.dt;
+            b[ia - first] += kv;
+            b[ib - first] -= kv;
+        }
+        if !self.bending {
+            return;
+        }
+        for e in chunk.bends.clone() {
+            let ids = model.bends().v[e].map(|i| i as usize);
+            let (u_at, w_at) = (e - bend_u.first, e - bend_w.first);
+            let Some(m) = bend_modes(x[ids[0]], x[ids[1]], x[ids[2]], x[ids[3]]) else {
+                bend_u.values[u_at] = [Vec3::zeros(); 4];
+                bend_w.values[w_at] = 0.0;
+                continue;
+            };
+            let stiff = 0.5 * self.kb * m.elastic_scale;
+            let wgt = self.dt2 * stiff + self.dt * self.kbd * m.damping_scale;
+            let uv: Real = (0..4).map(|k| m.u[k].dot(&v[ids[k]])).sum();
+            for k in 0..4 {
+                diag[ids[k] - first] += m.u[k] * m.u[k].transpose() * wgt;
+                // dt K v with K = -stiff u uᵀ.
+                b[ids[k] - first] -= m.u[k] * (self.dt * stiff * uv);
+            }
+            bend_u.values[u_at] = m.u;
+            bend_w.values[w_at] = wgt;
         }
     }
 }
