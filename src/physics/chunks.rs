@@ -1,5 +1,6 @@
-//! The elements split by vertex windows, so a force sweep runs on every thread of the pool and
-//! gives the same forces, bit for bit, whatever the number of threads.
+//! The elements split by vertex windows, so a sweep over them (the forces; the implicit system's
+//! build and product) runs on every thread of the pool and gives the same sums, bit for bit,
+//! whatever the number of threads.
 //!
 //! Chunk `t` holds the springs and bending elements whose key (a spring's smaller slot, a bending
 //! element's shared-edge smaller slot: the order the element arrays are sorted in) lies in slots
@@ -66,8 +67,8 @@ impl Indexed {
     }
 }
 
-/// The part `first..first + values.len()` of an array indexed by slots, springs or bending
-/// elements, for the chunks whose ranges lie in it; or an empty array, for none.
+/// The part `first..first + values.len()` of an array indexed by springs or bending elements,
+/// for the chunks whose ranges lie in it.
 pub(super) struct Part<'a, T> {
     pub values: &'a mut [T],
     pub first: usize,
@@ -88,9 +89,10 @@ impl<'a, T> Part<'a, T> {
 /// What a chunked sweep hands each chunk: parts of arrays that split where a chunk's ranges
 /// start (the chunks' ranges are in order and the windows of chunks `t` and `t + 2` apart).
 pub(super) trait Parts: Send + Sized {
-    /// The parts before chunk `at`'s ranges and from them on.
+    /// The parts before chunk `at`'s ranges and from them on; `at`'s ranges start inside the
+    /// parts (panics otherwise).
     fn split_before(self, at: &Chunk) -> (Self, Self);
-    /// Only chunk `chunk`'s ranges.
+    /// Only chunk `chunk`'s ranges, which lie inside the parts (panics otherwise).
     fn narrow(self, chunk: &Chunk) -> Self;
 }
 
@@ -122,12 +124,7 @@ impl<T: Send> Parts for Window<'_, T> {
 
 impl<T: Send> Parts for Part<'_, T> {
     fn split_before(self, at: &Chunk) -> (Self, Self) {
-        // An empty part (an array a sweep does not use) stays empty on both sides.
-        let split = if self.values.is_empty() {
-            self.first
-        } else {
-            self.by.range(at).start
-        };
+        let split = self.by.range(at).start;
         let (left, right) = self.values.split_at_mut(split - self.first);
         let (first, by) = (self.first, self.by);
         let left = Part {
@@ -144,15 +141,29 @@ impl<T: Send> Parts for Part<'_, T> {
     }
 
     fn narrow(self, chunk: &Chunk) -> Self {
-        if self.values.is_empty() {
-            return self;
-        }
         let r = self.by.range(chunk);
         Part {
             values: &mut self.values[r.start - self.first..r.end - self.first],
             first: r.start,
             by: self.by,
         }
+    }
+}
+
+/// Parts a sweep may not use (`None`: no array, as the bending terms when bending is off).
+impl<P: Parts> Parts for Option<P> {
+    fn split_before(self, at: &Chunk) -> (Self, Self) {
+        match self {
+            Some(parts) => {
+                let (left, right) = parts.split_before(at);
+                (Some(left), Some(right))
+            }
+            None => (None, None),
+        }
+    }
+
+    fn narrow(self, chunk: &Chunk) -> Self {
+        self.map(|parts| parts.narrow(chunk))
     }
 }
 
@@ -165,6 +176,19 @@ impl<A: Parts, B: Parts> Parts for (A, B) {
     fn narrow(self, chunk: &Chunk) -> Self {
         (self.0.narrow(chunk), self.1.narrow(chunk))
     }
+}
+
+/// The two phases of a chunked sweep: the even chunks, then the odd ones. A sweep runs both, in
+/// the order of [`Phase::BOTH`], each with its parts made afresh (a phase takes them by value).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Phase {
+    Even,
+    Odd,
+}
+
+impl Phase {
+    /// Both phases, in the order a sweep runs them.
+    pub const BOTH: [Phase; 2] = [Phase::Even, Phase::Odd];
 }
 
 /// The chunks of a mesh's elements; empty when the mesh is swept in one piece.
@@ -252,16 +276,16 @@ impl Chunks {
         self.parts.is_empty()
     }
 
-    /// Runs `work` on the chunks of `phase` (0: the even chunks, 1: the odd ones; the even ones
-    /// first) with their parts of `parts` (arrays whose ranges cover every chunk's), on the
-    /// threads of the current rayon pool.
+    /// Runs `work` on the chunks of `phase` with their parts of `parts` (arrays whose ranges
+    /// cover every chunk's), on the threads of the current rayon pool.
     pub fn sweep_phase<P: Parts>(
         &self,
-        phase: usize,
+        phase: Phase,
         parts: P,
         work: &(impl Fn(&Chunk, P) + Sync),
     ) {
         let parallel = crate::parallel::pool_can_help();
+        let phase = phase as usize;
         let count = (self.parts.len() + 1 - phase) / 2;
         if count > 0 {
             self.run(phase, 0..count, parts, work, parallel);

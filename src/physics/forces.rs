@@ -6,7 +6,7 @@
 //! are resolved once per call into a monomorphised kernel, so a disabled force is never evaluated
 //! and the inner loops carry no per-element switch test. Evaluation allocates nothing.
 
-use super::chunks::{Chunk, Chunks, Parts, Window};
+use super::chunks::{Chunk, Chunks, Parts, Phase, Window};
 use super::elements::{Bends, Springs};
 use super::integrator::Dynamics;
 use super::kernels::{bend_forces, spring_forces, BendConstants};
@@ -27,9 +27,6 @@ pub(super) const DEGENERATE_RATIO: Real = 1e-12;
 /// still sum to zero with zero torque; the references never come near it (smallest ratio 0.37).
 /// See docs/model-notes.md, "Sliver bending".
 pub(crate) const SLIVER_RATIO: Real = 0.05;
-
-/// The phases of a chunked sweep: the even chunks, then the odd ones.
-pub(super) const SWEEP_PHASES: [usize; 2] = [0, 1];
 
 /// A spring sweep over a range of springs, for one combination of the force switches.
 type SpringKernel = fn(&Springs, Range<usize>, &[Vec3], &[Vec3], Window);
@@ -227,18 +224,19 @@ impl ForceModel {
         &self.bends
     }
 
-    /// Runs `work` on phase `phase` of the elements' chunks (see [`SWEEP_PHASES`]) with their
-    /// parts of `parts` (arrays over every slot, spring or bending element), on the threads of the
-    /// pool; a mesh without chunks is one chunk of every element, swept in the first phase.
+    /// Runs `work` on phase `phase` of the elements' chunks with their parts of `parts` (arrays
+    /// over every slot, spring or bending element), on the threads of the pool; a mesh without
+    /// chunks is one chunk of every element, swept in the even phase. A sweep runs both phases
+    /// ([`Phase::BOTH`]).
     pub(super) fn sweep_phase<P: Parts>(
         &self,
-        phase: usize,
+        phase: Phase,
         parts: P,
         work: &(impl Fn(&Chunk, P) + Sync),
     ) {
         if !self.chunks.is_empty() {
             self.chunks.sweep_phase(phase, parts, work);
-        } else if phase == 0 {
+        } else if phase == Phase::Even {
             let whole = Chunk {
                 springs: 0..self.springs.len(),
                 bends: 0..self.bends.len(),
@@ -327,7 +325,7 @@ impl ForceModel {
                 kernel(&self.bends, bend_range, k, x, v, window);
             }
         };
-        for phase in SWEEP_PHASES {
+        for phase in Phase::BOTH {
             let window = Window {
                 values: &mut *f,
                 first: 0,

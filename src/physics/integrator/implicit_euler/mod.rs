@@ -238,12 +238,18 @@ impl ImplicitEuler {
         self.slow_streak >= AUTO_SLOW_STEPS
     }
 
-    /// Solves the built system by block-Jacobi CG from `dv = 0`.
+    /// Solves the built system by block-Jacobi CG from `dv = 0`; on a chunked model, whose
+    /// product an iteration is shared by two threads, the other kept awake.
     fn solve_cg(&mut self, model: &crate::physics::ForceModel) -> StepStats {
         let interrupt = self.interrupt.as_deref();
         let block_jacobi = Preconditioner::BlockJacobi;
-        self.cg
-            .solve(&self.system, model, interrupt, block_jacobi, &mut self.dv)
+        let (cg, system, dv) = (&mut self.cg, &self.system, &mut self.dv);
+        let solve = || cg.solve(system, model, interrupt, block_jacobi, dv);
+        if model.is_chunked() {
+            crate::parallel::with_partner_awake(solve)
+        } else {
+            solve()
+        }
     }
 
     /// Solves the built system by CG preconditioned with the springs' factor; where that

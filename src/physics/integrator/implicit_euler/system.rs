@@ -13,8 +13,8 @@
 #![allow(clippy::needless_range_loop)]
 
 use crate::math::{Mat3, Real, Vec3};
-use crate::physics::chunks::{Chunk, Indexed, Part, Window};
-use crate::physics::forces::{bend_modes, SWEEP_PHASES};
+use crate::physics::chunks::{Chunk, Indexed, Part, Phase, Window};
+use crate::physics::forces::bend_modes;
 use crate::physics::{ForceModel, SpringMode};
 
 /// The assembled pieces of `S A S` and `S b` for one step; buffers are reused across steps.
@@ -52,11 +52,8 @@ impl System {
         let n = x.len();
         let sw = model.switches();
         let terms = Terms::of(model, dt);
-        let bends = if terms.bending {
-            model.bends().len()
-        } else {
-            0
-        };
+        let bending = sw.bending || sw.bending_damping;
+        let bends = if bending { model.bends().len() } else { 0 };
         self.spring_blocks
             .resize(model.springs().len(), Mat3::zeros());
         self.bend_u.resize(bends, [Vec3::zeros(); 4]);
@@ -70,7 +67,7 @@ impl System {
             self.diag_blocks[i] = Mat3::identity() * self.diag[i];
             self.b[i] = f[i];
         }
-        for phase in SWEEP_PHASES {
+        for phase in Phase::BOTH {
             let slots = (
                 Window {
                     values: &mut self.diag_blocks[..],
@@ -83,10 +80,12 @@ impl System {
             );
             let elements = (
                 Part::whole(&mut self.spring_blocks, Indexed::Springs),
-                (
-                    Part::whole(&mut self.bend_u, Indexed::Bends),
-                    Part::whole(&mut self.bend_w, Indexed::Bends),
-                ),
+                bending.then(|| {
+                    (
+                        Part::whole(&mut self.bend_u, Indexed::Bends),
+                        Part::whole(&mut self.bend_w, Indexed::Bends),
+                    )
+                }),
             );
             model.sweep_phase(phase, (slots, elements), &|chunk: &Chunk, parts| {
                 terms.add(model, chunk, x, v, parts)
@@ -110,7 +109,7 @@ impl System {
         for i in 0..p.len() {
             q[i] = p[i] * self.diag[i];
         }
-        for phase in SWEEP_PHASES {
+        for phase in Phase::BOTH {
             let window = Window {
                 values: &mut *q,
                 first: 0,
@@ -151,23 +150,28 @@ impl System {
 }
 
 /// The parts of the system's arrays a chunk of elements adds to: the diagonal blocks and the
-/// right-hand side by slot; the springs' blocks; the bending elements' modes and weights.
+/// right-hand side by slot (two windows of the same slots); the springs' blocks; the bending
+/// elements' modes and weights (`None` when bending and its damping are off).
 type BuildParts<'a> = (
     (Window<'a, Mat3>, Window<'a, Vec3>),
-    (Part<'a, Mat3>, (Part<'a, [Vec3; 4]>, Part<'a, Real>)),
+    (
+        Part<'a, Mat3>,
+        Option<(Part<'a, [Vec3; 4]>, Part<'a, Real>)>,
+    ),
 );
 
 /// What the elements' terms of one step's system need besides the state.
 struct Terms {
-    /// The step `dt` (s) and its square (s²).
+    /// The step `dt` (s).
     dt: Real,
+    /// `dt²` (s²).
     dt2: Real,
     /// Springs act in compression too (`SpringMode::Both`).
     both: bool,
+    /// The springs' elastic force is on.
     springs: bool,
+    /// The springs' damping is on.
     spring_damping: bool,
-    /// Bending or its damping is on (else the system has no bending terms).
-    bending: bool,
     /// The bending stiffness `k_b` (N m) and damping `k_bd` (N m s), 0 where switched off.
     kb: Real,
     kbd: Real,
@@ -183,7 +187,6 @@ impl Terms {
             both: material.springs == SpringMode::Both,
             springs: sw.springs,
             spring_damping: sw.spring_damping,
-            bending: sw.bending || sw.bending_damping,
             kb: if sw.bending { material.k_b } else { 0.0 },
             kbd: if sw.bending_damping {
                 material.k_bd
@@ -198,7 +201,8 @@ impl Terms {
     /// element (Gauss-Newton) `B = w u uᵀ` with `w = dt² (k_b/2) |e|²/(|N1|+|N2|) + dt k_bd
     /// |e|` and its part of the right-hand side (before the final factor `dt`).
     fn add(&self, model: &ForceModel, chunk: &Chunk, x: &[Vec3], v: &[Vec3], parts: BuildParts) {
-        let ((diag, b), (blocks, (bend_u, bend_w))) = parts;
+        let ((diag, b), (blocks, bends)) = parts;
+        debug_assert_eq!(diag.first, b.first, "two windows of the same slots");
         let (first, diag, b) = (diag.first, diag.values, b.values);
         let sp = model.springs();
         for j in chunk.springs.clone() {
@@ -227,9 +231,9 @@ impl Terms {
             b[ia - first] += kv;
             b[ib - first] -= kv;
         }
-        if !self.bending {
+        let Some((bend_u, bend_w)) = bends else {
             return;
-        }
+        };
         for e in chunk.bends.clone() {
             let ids = model.bends().v[e].map(|i| i as usize);
             let (u_at, w_at) = (e - bend_u.first, e - bend_w.first);

@@ -521,39 +521,58 @@ fn the_split_solve_is_the_same_on_one_thread_and_two() {
 }
 
 /// The system's build and its product with a vector are swept by chunks on the pool's threads:
-/// on a sheet large enough for chunks (49 x 49 vertices), one thread and two give every array
-/// and product bit for bit, and the direct solution (its matrix filled from the elements'
-/// terms, not from the chunks' sums) leaves a residual of rounding under the chunked product.
+/// on a sheet large enough for chunks (49 x 49 vertices), with bending and its damping on, off,
+/// and its damping alone, one thread and two give every array and product bit for bit, and the
+/// direct solution (its matrix's diagonal blocks the build's sums, its couplings the elements'
+/// own blocks) leaves a residual of rounding under the chunked product.
 #[test]
 fn the_chunked_system_is_the_same_on_one_thread_and_two() {
-    let (model, x, v, dt) = stiff_sheet_of(49, Material::default().springs, 5, 0.02);
-    assert!(model.is_chunked(), "a 49x49 sheet is swept in chunks");
-    let (p, _) = random_state(&union_jack(49, 49, 1.0, 1.0), 6, 0.1);
-    let on = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
-            let system = system_at(&model, dt, &x, &v);
-            let mut q = vec![Vec3::zeros(); p.len()];
-            system.apply(&model, &p, &mut q);
-            (system, q)
-        })
-    };
-    let (one, q_one) = on(1);
-    let (two, q_two) = on(2);
-    assert!(one.spring_blocks == two.spring_blocks && one.bend_u == two.bend_u);
-    assert!(one.bend_w == two.bend_w && one.diag_blocks == two.diag_blocks);
-    assert!(
-        one.b == two.b && q_one == q_two,
-        "one thread and two differ"
-    );
-    let mut dv = vec![Vec3::zeros(); x.len()];
-    let mut cholesky = Cholesky::new(Factored::Whole);
-    cholesky
-        .solve(&one, &model, &mut dv)
-        .expect("positive definite");
-    let residual = relative_residual(&model, &one, &dv);
-    assert!(residual <= 1e-9, "{residual}");
+    let mut mesh = union_jack(49, 49, 1.0, 1.0);
+    mesh.set_pinned(VertexId(0), true);
+    let (x, v) = random_state(&mesh, 5, 0.02);
+    let (p, _) = random_state(&mesh, 6, 0.1);
+    let bending = [(true, true), (false, false), (false, true)];
+    for (bending, bending_damping) in bending {
+        let forces = Forces {
+            bending,
+            bending_damping,
+            ..Forces::default()
+        };
+        let model = built(&mesh, &Material::default(), &forces);
+        assert!(model.is_chunked(), "a 49x49 sheet is swept in chunks");
+        let dt = 100.0 * model.stable_step(1.0);
+        let on = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| {
+                let system = system_at(&model, dt, &x, &v);
+                let mut q = vec![Vec3::zeros(); p.len()];
+                system.apply(&model, &p, &mut q);
+                (system, q)
+            })
+        };
+        let (one, q_one) = on(1);
+        let (two, q_two) = on(2);
+        let case = format!("bending {bending}, its damping {bending_damping}");
+        assert_eq!(
+            one.bend_u.is_empty(),
+            !(bending || bending_damping),
+            "{case}"
+        );
+        assert!(one.spring_blocks == two.spring_blocks && one.bend_u == two.bend_u);
+        assert!(one.bend_w == two.bend_w && one.diag_blocks == two.diag_blocks);
+        assert!(
+            one.b == two.b && q_one == q_two,
+            "{case}: one thread and two differ"
+        );
+        let mut dv = vec![Vec3::zeros(); x.len()];
+        let mut cholesky = Cholesky::new(Factored::Whole);
+        cholesky
+            .solve(&one, &model, &mut dv)
+            .expect("positive definite");
+        let residual = relative_residual(&model, &one, &dv);
+        assert!(residual <= 1e-9, "{case}: {residual}");
+    }
 }
