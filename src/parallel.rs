@@ -64,17 +64,14 @@ pub fn with_partner_awake<R>(phase: impl FnOnce() -> R) -> R {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::in_pool;
 
     /// Joins inside the phase run, the phase's value comes back, and the partners stop: on a
     /// pool of two threads and of one.
     #[test]
     fn a_phase_runs_its_joins_and_ends() {
         for threads in [1, 2] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let sum = pool.install(|| {
+            let sum = in_pool(threads, || {
                 with_partner_awake(|| {
                     (0..100)
                         .map(|k| {
@@ -91,11 +88,7 @@ mod tests {
     /// A phase that panics ends its partners too: the panic reaches the caller, no hang.
     #[test]
     fn a_panicking_phase_ends_its_partners() {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
-        let caught = pool.install(|| {
+        let caught = in_pool(2, || {
             std::panic::catch_unwind(|| with_partner_awake(|| -> i32 { panic!("in the phase") }))
         });
         assert!(caught.is_err());

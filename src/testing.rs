@@ -139,3 +139,12 @@ pub fn error_within_seconds<E: std::fmt::Display>(
         }
     }
 }
+
+/// Runs `work` on a fresh rayon pool of `threads` threads and returns its value.
+pub fn in_pool<R: Send>(threads: usize, work: impl FnOnce() -> R + Send) -> R {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .expect("thread pool")
+        .install(work)
+}

@@ -9,7 +9,7 @@ use crate::physics::chunks::Chunks;
 use crate::physics::elements::{Bends, Springs};
 use crate::physics::forces::bend_modes;
 use crate::physics::{ForceModel, Forces, Material, SpringMode};
-use crate::testing::{built, random_state};
+use crate::testing::{built, in_pool, random_state};
 use proptest::prelude::*;
 use std::panic::AssertUnwindSafe;
 
@@ -179,12 +179,8 @@ proptest! {
 
 /// The forces of `model` computed in a pool of `threads` threads.
 fn forces_on(threads: usize, model: &ForceModel, x: &[Vec3], v: &[Vec3]) -> Vec<Vec3> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .expect("thread pool");
     let mut f = vec![Vec3::zeros(); x.len()];
-    pool.install(|| model.internal_forces(x, v, &mut f));
+    in_pool(threads, || model.internal_forces(x, v, &mut f));
     f
 }
 

@@ -174,6 +174,7 @@ impl FrameSink<'_, '_> {
 mod tests {
     use super::*;
     use crate::mesh::union_jack;
+    use crate::testing::in_pool;
 
     /// Twenty frames handed to a pool of two threads are all written, counted, and equal to
     /// frames written in line; a write into a missing folder is the failure reported, once, and
@@ -195,12 +196,8 @@ mod tests {
         for (k, x) in states.iter().enumerate() {
             sink.submit(Frame::capture(name("inline", k), &mesh, x, k as f64));
         }
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(2)
-            .build()
-            .unwrap();
         let pooled = FrameWrites::default();
-        pool.install(|| {
+        in_pool(2, || {
             rayon::in_place_scope(|scope| {
                 let sink = pooled.sink(Some(scope));
                 for (k, x) in states.iter().enumerate() {

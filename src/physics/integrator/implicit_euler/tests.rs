@@ -12,7 +12,7 @@ use crate::mesh::{union_jack, VertexId};
 use crate::physics::{
     ForceModel, Forces, Integrator, IntegratorParams, LinearSolver, Material, SpringMode, Springs,
 };
-use crate::testing::{built, random_state};
+use crate::testing::{built, in_pool, random_state};
 
 const SOLVERS: [LinearSolver; 3] = [
     LinearSolver::Cg,
@@ -492,11 +492,7 @@ fn the_split_solve_is_the_same_on_one_thread_and_two() {
     let (model, x, v, dt) = stiff_sheet_of(41, Material::default().springs, 3, 0.02);
     let system = system_at(&model, dt, &x, &v);
     let solve_on = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        in_pool(threads, || {
             let mut cholesky = Cholesky::new(Factored::Whole);
             let mut dv = vec![Vec3::zeros(); x.len()];
             cholesky
@@ -542,11 +538,7 @@ fn the_chunked_system_is_the_same_on_one_thread_and_two() {
         assert!(model.is_chunked(), "a 49x49 sheet is swept in chunks");
         let dt = 100.0 * model.stable_step(1.0);
         let on = |threads: usize| {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            pool.install(|| {
+            in_pool(threads, || {
                 let system = system_at(&model, dt, &x, &v);
                 let mut q = vec![Vec3::zeros(); p.len()];
                 system.apply(&model, &p, &mut q);
