@@ -40,7 +40,12 @@ pub(super) struct Window<'a, T = Vec3> {
     pub first: usize,
 }
 
-impl<T> Window<'_, T> {
+impl<'a, T> Window<'a, T> {
+    /// Every slot of `values` (slots from 0).
+    pub fn whole(values: &'a mut [T]) -> Self {
+        Window { values, first: 0 }
+    }
+
     /// The same window, borrowed again (for a second sweep over it).
     pub fn reborrow(&mut self) -> Window<'_, T> {
         Window {
@@ -98,14 +103,12 @@ pub(super) trait Parts: Send + Sized {
 
 impl<T: Send> Parts for Window<'_, T> {
     fn split_before(self, at: &Chunk) -> (Self, Self) {
-        let split = at.window.start;
-        let (left, right) = self.values.split_at_mut(split - self.first);
-        let left = Window {
-            values: left,
-            first: self.first,
-        };
+        let [(left, first), (right, split)] = cut(self.values, self.first, at.window.start);
         (
-            left,
+            Window {
+                values: left,
+                first,
+            },
             Window {
                 values: right,
                 first: split,
@@ -116,7 +119,7 @@ impl<T: Send> Parts for Window<'_, T> {
     fn narrow(self, chunk: &Chunk) -> Self {
         let w = &chunk.window;
         Window {
-            values: &mut self.values[w.start - self.first..w.end - self.first],
+            values: keep(self.values, self.first, w),
             first: w.start,
         }
     }
@@ -124,9 +127,8 @@ impl<T: Send> Parts for Window<'_, T> {
 
 impl<T: Send> Parts for Part<'_, T> {
     fn split_before(self, at: &Chunk) -> (Self, Self) {
-        let split = self.by.range(at).start;
-        let (left, right) = self.values.split_at_mut(split - self.first);
-        let (first, by) = (self.first, self.by);
+        let by = self.by;
+        let [(left, first), (right, split)] = cut(self.values, self.first, by.range(at).start);
         let left = Part {
             values: left,
             first,
@@ -143,11 +145,23 @@ impl<T: Send> Parts for Part<'_, T> {
     fn narrow(self, chunk: &Chunk) -> Self {
         let r = self.by.range(chunk);
         Part {
-            values: &mut self.values[r.start - self.first..r.end - self.first],
+            values: keep(self.values, self.first, r),
             first: r.start,
             by: self.by,
         }
     }
+}
+
+/// The entries of `values` (indices from `first`) before index `at` and from it on, each with
+/// its first index.
+fn cut<T>(values: &mut [T], first: usize, at: usize) -> [(&mut [T], usize); 2] {
+    let (left, right) = values.split_at_mut(at - first);
+    [(left, first), (right, at)]
+}
+
+/// The entries `range` of `values` (indices from `first`).
+fn keep<'a, T>(values: &'a mut [T], first: usize, range: &Range<usize>) -> &'a mut [T] {
+    &mut values[range.start - first..range.end - first]
 }
 
 /// Parts a sweep may not use (`None`: no array, as the bending terms when bending is off).

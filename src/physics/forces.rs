@@ -326,11 +326,7 @@ impl ForceModel {
             }
         };
         for phase in Phase::BOTH {
-            let window = Window {
-                values: &mut *f,
-                first: 0,
-            };
-            self.sweep_phase(phase, window, &|chunk: &Chunk, window| {
+            self.sweep_phase(phase, Window::whole(f), &|chunk: &Chunk, window| {
                 sweep(chunk.springs.clone(), chunk.bends.clone(), window)
             });
         }

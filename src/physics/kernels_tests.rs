@@ -82,14 +82,6 @@ fn bits(f: &[Vec3]) -> Vec<[u64; 3]> {
         .collect()
 }
 
-/// Every slot's forces.
-fn whole(forces: &mut [Vec3]) -> Window<'_> {
-    Window {
-        values: forces,
-        first: 0,
-    }
-}
-
 /// Runs a kernel on a zeroed force buffer.
 fn run(n: usize, kernel: impl FnOnce(&mut [Vec3])) -> Vec<Vec3> {
     let mut f = vec![Vec3::zeros(); n];
@@ -133,24 +125,24 @@ proptest! {
         let want = scalar_springs(&springs, both, (elastic, damp), &x, &v);
         let (fast, portable) = match (elastic, damp, both) {
             (true, true, false) => (
-                run(n, |f| spring_forces::<true, true, false>(&springs, 0..springs.len(), &x, &v, whole(f))),
-                run(n, |f| spring_blocks::<true, true, false>(&springs, 0..springs.len(), &x, &v, whole(f))),
+                run(n, |f| spring_forces::<true, true, false>(&springs, 0..springs.len(), &x, &v, Window::whole(f))),
+                run(n, |f| spring_blocks::<true, true, false>(&springs, 0..springs.len(), &x, &v, Window::whole(f))),
             ),
             (true, true, true) => (
-                run(n, |f| spring_forces::<true, true, true>(&springs, 0..springs.len(), &x, &v, whole(f))),
-                run(n, |f| spring_blocks::<true, true, true>(&springs, 0..springs.len(), &x, &v, whole(f))),
+                run(n, |f| spring_forces::<true, true, true>(&springs, 0..springs.len(), &x, &v, Window::whole(f))),
+                run(n, |f| spring_blocks::<true, true, true>(&springs, 0..springs.len(), &x, &v, Window::whole(f))),
             ),
             (true, false, false) => (
-                run(n, |f| spring_forces::<true, false, false>(&springs, 0..springs.len(), &x, &v, whole(f))),
-                run(n, |f| spring_blocks::<true, false, false>(&springs, 0..springs.len(), &x, &v, whole(f))),
+                run(n, |f| spring_forces::<true, false, false>(&springs, 0..springs.len(), &x, &v, Window::whole(f))),
+                run(n, |f| spring_blocks::<true, false, false>(&springs, 0..springs.len(), &x, &v, Window::whole(f))),
             ),
             (true, false, true) => (
-                run(n, |f| spring_forces::<true, false, true>(&springs, 0..springs.len(), &x, &v, whole(f))),
-                run(n, |f| spring_blocks::<true, false, true>(&springs, 0..springs.len(), &x, &v, whole(f))),
+                run(n, |f| spring_forces::<true, false, true>(&springs, 0..springs.len(), &x, &v, Window::whole(f))),
+                run(n, |f| spring_blocks::<true, false, true>(&springs, 0..springs.len(), &x, &v, Window::whole(f))),
             ),
             (false, _, _) => (
-                run(n, |f| spring_forces::<false, true, false>(&springs, 0..springs.len(), &x, &v, whole(f))),
-                run(n, |f| spring_blocks::<false, true, false>(&springs, 0..springs.len(), &x, &v, whole(f))),
+                run(n, |f| spring_forces::<false, true, false>(&springs, 0..springs.len(), &x, &v, Window::whole(f))),
+                run(n, |f| spring_blocks::<false, true, false>(&springs, 0..springs.len(), &x, &v, Window::whole(f))),
             ),
         };
         prop_assert_eq!(bits(&fast), bits(&want));
@@ -159,16 +151,16 @@ proptest! {
         let want = scalar_bends(&bends, k, (elastic, damp), &x, &v);
         let (fast, portable) = match (elastic, damp) {
             (true, true) => (
-                run(n, |f| bend_forces::<true, true>(&bends, 0..bends.len(), kb, &x, &v, whole(f))),
-                run(n, |f| bend_blocks::<true, true>(&bends, 0..bends.len(), kb, &x, &v, whole(f))),
+                run(n, |f| bend_forces::<true, true>(&bends, 0..bends.len(), kb, &x, &v, Window::whole(f))),
+                run(n, |f| bend_blocks::<true, true>(&bends, 0..bends.len(), kb, &x, &v, Window::whole(f))),
             ),
             (true, false) => (
-                run(n, |f| bend_forces::<true, false>(&bends, 0..bends.len(), kb, &x, &v, whole(f))),
-                run(n, |f| bend_blocks::<true, false>(&bends, 0..bends.len(), kb, &x, &v, whole(f))),
+                run(n, |f| bend_forces::<true, false>(&bends, 0..bends.len(), kb, &x, &v, Window::whole(f))),
+                run(n, |f| bend_blocks::<true, false>(&bends, 0..bends.len(), kb, &x, &v, Window::whole(f))),
             ),
             (false, _) => (
-                run(n, |f| bend_forces::<false, true>(&bends, 0..bends.len(), kb, &x, &v, whole(f))),
-                run(n, |f| bend_blocks::<false, true>(&bends, 0..bends.len(), kb, &x, &v, whole(f))),
+                run(n, |f| bend_forces::<false, true>(&bends, 0..bends.len(), kb, &x, &v, Window::whole(f))),
+                run(n, |f| bend_blocks::<false, true>(&bends, 0..bends.len(), kb, &x, &v, Window::whole(f))),
             ),
         };
         prop_assert!(want.iter().any(|p| p.norm() > 0.0), "no bending force to compare");
@@ -320,17 +312,30 @@ fn slots_outside_the_window_or_the_state_panic() {
                 0..springs.len(),
                 xs,
                 vs,
-                whole(&mut zeros()),
+                Window::whole(&mut zeros()),
             )
         }));
         assert!(panics(&|| {
-            bend_forces::<true, true>(&bends, 0..bends.len(), kb, xs, vs, whole(&mut zeros()))
+            bend_forces::<true, true>(
+                &bends,
+                0..bends.len(),
+                kb,
+                xs,
+                vs,
+                Window::whole(&mut zeros()),
+            )
         }));
     }
     // The same sweeps with everything in bounds do not panic.
     assert!(!panics(&|| {
         let mut f = vec![Vec3::zeros(); n];
-        spring_forces::<true, true, false>(&springs, 0..springs.len(), &x, &v, whole(&mut f));
-        bend_forces::<true, true>(&bends, 0..bends.len(), kb, &x, &v, whole(&mut f));
+        spring_forces::<true, true, false>(
+            &springs,
+            0..springs.len(),
+            &x,
+            &v,
+            Window::whole(&mut f),
+        );
+        bend_forces::<true, true>(&bends, 0..bends.len(), kb, &x, &v, Window::whole(&mut f));
     }));
 }

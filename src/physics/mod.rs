@@ -13,7 +13,8 @@
 //! registry) with one file per integrator under `integrator/`. Seed 004's single-particle
 //! experiments that compare the integrators live in `crate::study::integrators`.
 
-/// Runs `$call` (a generic function with its type parameters named) compiled for AVX2 when the CPU has it, else for the build's baseline.
+/// Runs `$call` (a generic function with its type parameters named) compiled for AVX2 when the
+/// CPU has it, else for the build's baseline.
 macro_rules! dispatch {
     ($avx2:ident, $portable:ident :: <$($c:ident),*> ($($arg:expr),*)) => {{
         #[cfg(target_arch = "x86_64")]

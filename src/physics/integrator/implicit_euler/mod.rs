@@ -165,6 +165,16 @@ impl Integrator for ImplicitEuler {
     }
 }
 
+/// Runs `solve` (a CG solve) with the pool's other thread kept awake when `shared` (its
+/// iterations split work over two threads), else as it is.
+fn awake_if<R>(shared: bool, solve: impl FnOnce() -> R) -> R {
+    if shared {
+        crate::parallel::with_partner_awake(solve)
+    } else {
+        solve()
+    }
+}
+
 impl ImplicitEuler {
     /// Solves `(M - h df/dv - h² df/dx) dv = h (f + h df/dx w) + extra` for `dv` (m/s, left in
     /// [`ImplicitEuler::dv`]), the Jacobians taken at positions `x` (m), with `f` (N) the forces
@@ -244,12 +254,9 @@ impl ImplicitEuler {
         let interrupt = self.interrupt.as_deref();
         let block_jacobi = Preconditioner::BlockJacobi;
         let (cg, system, dv) = (&mut self.cg, &self.system, &mut self.dv);
-        let solve = || cg.solve(system, model, interrupt, block_jacobi, dv);
-        if model.is_chunked() {
-            crate::parallel::with_partner_awake(solve)
-        } else {
-            solve()
-        }
+        awake_if(model.is_chunked(), || {
+            cg.solve(system, model, interrupt, block_jacobi, dv)
+        })
     }
 
     /// Solves the built system by CG preconditioned with the springs' factor; where that
@@ -269,12 +276,7 @@ impl ImplicitEuler {
         let shared = self.springs_factor.shares_solves() || model.is_chunked();
         let factor = Preconditioner::Factor(&mut self.springs_factor);
         let (cg, system, dv) = (&mut self.cg, &self.system, &mut self.dv);
-        let solve = || cg.solve(system, model, interrupt, factor, dv);
-        let pcg = if shared {
-            crate::parallel::with_partner_awake(solve)
-        } else {
-            solve()
-        };
+        let pcg = awake_if(shared, || cg.solve(system, model, interrupt, factor, dv));
         if !pcg.unconverged {
             return pcg;
         }

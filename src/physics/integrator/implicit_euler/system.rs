@@ -69,14 +69,8 @@ impl System {
         }
         for phase in Phase::BOTH {
             let slots = (
-                Window {
-                    values: &mut self.diag_blocks[..],
-                    first: 0,
-                },
-                Window {
-                    values: &mut self.b[..],
-                    first: 0,
-                },
+                Window::whole(&mut self.diag_blocks),
+                Window::whole(&mut self.b),
             );
             let elements = (
                 Part::whole(&mut self.spring_blocks, Indexed::Springs),
@@ -110,11 +104,7 @@ impl System {
             q[i] = p[i] * self.diag[i];
         }
         for phase in Phase::BOTH {
-            let window = Window {
-                values: &mut *q,
-                first: 0,
-            };
-            model.sweep_phase(phase, window, &|chunk: &Chunk, window| {
+            model.sweep_phase(phase, Window::whole(q), &|chunk: &Chunk, window| {
                 self.apply_elements(model, chunk, p, window)
             });
         }
