@@ -227,9 +227,11 @@ pub fn apply_edit_conserving(
         return Err(ConservingError::Edit(EditError::CrossesCloth));
     }
     // `energy_trial` checked the edit on this mesh, unchanged since; the crossings were checked
-    // above with the positions the new vertices take.
+    // above with the positions the new vertices take, pushed out above (the transfer's own
+    // interpolated positions are replaced).
     let placed = TransferOptions {
         refuse_crossings: false,
+        obstacles: None,
         ..*options
     };
     let mut transfer = apply_checked_edit_with(cloth, edit, &placed);

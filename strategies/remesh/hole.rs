@@ -340,7 +340,21 @@ fn segment_distance(q: Vec2, a: Vec2, b: Vec2) -> Real {
 
 /// Smallest interior angle of a triangle (rad).
 pub(super) fn min_angle(a: Vec2, b: Vec2, c: Vec2) -> Real {
-    // The smallest angle faces the shortest side (law of sines): one arctangent, not three.
+    let (u, v) = smallest_angle_sides(a, b, c);
+    u.perp(&v).abs().atan2(u.dot(&v))
+}
+
+/// Tangent of the smallest interior angle of a triangle of positive area (dimensionless): that
+/// angle is at most 60 degrees, where the tangent grows with it, so comparing tangents compares
+/// angles without an arctangent.
+fn min_angle_tan(a: Vec2, b: Vec2, c: Vec2) -> Real {
+    let (u, v) = smallest_angle_sides(a, b, c);
+    u.perp(&v).abs() / u.dot(&v)
+}
+
+/// The two sides from the corner of a triangle's smallest angle.
+fn smallest_angle_sides(a: Vec2, b: Vec2, c: Vec2) -> (Vec2, Vec2) {
+    // The smallest angle faces the shortest side (law of sines).
     let (ab, bc, ca) = (
         (b - a).norm_squared(),
         (c - b).norm_squared(),
@@ -353,8 +367,7 @@ pub(super) fn min_angle(a: Vec2, b: Vec2, c: Vec2) -> Real {
     } else {
         (c, a, b)
     };
-    let (u, v) = (q - p, r - p);
-    u.perp(&v).abs().atan2(u.dot(&v))
+    (q - p, r - p)
 }
 
 /// Laplacian smoothing of the new points (index `>= n_fixed`): each moves to the mean of its
@@ -375,6 +388,7 @@ fn smooth(mesh: &mut HoleMesh, n_fixed: usize, passes: usize) {
             neighbours[t[j]].insert(t[(j + 2) % 3]);
         }
     }
+    // The tangent of the star's smallest angle, `None` when a triangle is not clearly positive.
     let star_quality = |pts: &[Vec2], v: usize, at: Vec2| -> Option<Real> {
         let mut worst = Real::INFINITY;
         for &k in &incident[v] {
@@ -383,7 +397,7 @@ fn smooth(mesh: &mut HoleMesh, n_fixed: usize, passes: usize) {
             if signed_area(a, b, c) <= 1e-9 * scale {
                 return None;
             }
-            worst = worst.min(min_angle(a, b, c));
+            worst = worst.min(min_angle_tan(a, b, c));
         }
         Some(worst)
     };
@@ -506,6 +520,10 @@ mod tests {
             for (p, q, r) in [(a, b, c), (c, b, a), (b, c, a)] {
                 let brute = angle(p, q, r).min(angle(q, r, p)).min(angle(r, p, q));
                 assert!((min_angle(p, q, r) - brute).abs() < 1e-12, "{t:?}");
+                if signed_area(p, q, r) > 0.0 {
+                    let tan = min_angle_tan(p, q, r);
+                    assert!((tan.atan() - brute).abs() < 1e-12, "{t:?}: tan {tan}");
+                }
             }
         }
     }

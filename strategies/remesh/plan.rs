@@ -13,6 +13,10 @@ use std::collections::{BTreeMap, BTreeSet};
 /// simplifying (dimensionless).
 const MIN_CHANGE: Real = 1e-6;
 
+/// Spacings within this relative difference are the same attempt (a retry factor's division
+/// undone by its multiplication, up to rounding; dimensionless).
+const SAME_SPACING: Real = 1e-9;
+
 /// An edit ready to apply and what it will do.
 #[derive(Clone, Debug)]
 pub struct Plan {
@@ -39,6 +43,11 @@ enum Verdict {
     Denser(&'static str),
     /// A new edge fell below the floor, or simplifying did not lengthen the edges: retry coarser.
     Coarser(&'static str),
+    /// No retry can do better: simplifying with no interior point left did not lengthen the
+    /// edges (a coarser spacing only drops interior points, and the border is already all
+    /// there is; measured on the sphere: none of 423 such regions was accepted by a later
+    /// attempt).
+    Refuse(&'static str),
 }
 
 /// Plans the re-meshing of the region `faces` (live faces of `mesh`) in `mode`.
@@ -90,7 +99,9 @@ pub fn plan_region(
     };
     let mut last = "no attempt";
     let mut mesher = HoleMesher::default();
+    let mut tried: Vec<Real> = Vec::with_capacity(params.max_attempts);
     for attempt in 1..=params.max_attempts {
+        tried.push(spacing);
         let (fixed, constraints) = hole_input(mesh, &border, &pinned, mode, spacing, params);
         let points: Vec<Vec2> = fixed.iter().map(|p| position(mesh, *p)).collect();
         let hole = mesher.mesh(
@@ -140,7 +151,11 @@ pub fn plan_region(
                 Verdict::Coarser("too many triangles below the angle limit")
             }
             Mode::Simplify if after <= before * (1.0 + MIN_CHANGE) => {
-                Verdict::Coarser("edges not longer")
+                if hole.points.len() == fixed.len() {
+                    Verdict::Refuse("edges not longer")
+                } else {
+                    Verdict::Coarser("edges not longer")
+                }
             }
             _ => Verdict::Accept,
         };
@@ -177,6 +192,18 @@ pub fn plan_region(
                     spacing = spacing.min(params.l_max);
                 }
             }
+            Verdict::Refuse(why) => {
+                last = why;
+                break;
+            }
+        }
+        // The mesher is deterministic: a spacing tried before (a retry denser after one
+        // coarser, or the reverse) would be refused again.
+        if tried
+            .iter()
+            .any(|&s| (s - spacing).abs() <= SAME_SPACING * s)
+        {
+            break;
         }
     }
     Err(RemeshError::NoAcceptableMesh(last.to_string()))
