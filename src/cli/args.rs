@@ -148,7 +148,7 @@ pub struct ReferenceArgs {
     #[command(flatten)]
     pub reference: RefOpts,
     /// Simulated duration in seconds (overrides the scene).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Override any scene key: --set section.key=value (repeatable).
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -189,7 +189,7 @@ pub struct CompareArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Simulated duration in seconds (overrides the scene).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Override any scene key for every run and the reference: --set section.key=value.
     #[arg(long = "set", value_name = "KEY=VALUE")]
@@ -283,7 +283,7 @@ pub struct RunArgs {
     #[arg(long)]
     pub integrator: Option<String>,
     /// Simulated duration in seconds (overrides the scene).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub duration: Option<f64>,
     /// Output folder. Default: out/<scene>-<strategy>.
     #[arg(long)]
@@ -313,11 +313,16 @@ pub struct RenderArgs {
     #[arg(long)]
     pub scene: Option<String>,
     /// Picture size in pixels.
-    #[arg(long, default_value_t = 640)]
+    #[arg(long, default_value_t = 640, value_parser = picture_side())]
     pub width: u32,
     /// Picture size in pixels.
-    #[arg(long, default_value_t = 480)]
+    #[arg(long, default_value_t = 480, value_parser = picture_side())]
     pub height: u32,
+}
+
+/// `--width` and `--height`: 1 to 16384 pixels, the sizes a picture can be drawn at.
+fn picture_side() -> clap::builder::RangedU64ValueParser<u32> {
+    clap::builder::RangedU64ValueParser::<u32>::new().range(1..=16384)
 }
 
 /// `--jobs`: 1 to 1024 runs at once (0 is refused, not read as 1).

@@ -349,6 +349,25 @@ pub fn load_with(path: &Path, overrides: &Overrides) -> Result<LoadedScene, Scen
     from_text_with(&text, &source, &stem, base_dir, overrides)
 }
 
+/// The top-level keys of a scene file that a study file never has: its sections.
+const SCENE_SECTIONS: [&str; 9] = [
+    "cloth",
+    "material",
+    "forces",
+    "time",
+    "integrator",
+    "collision",
+    "obstacles",
+    "adaptivity",
+    "tracked",
+];
+
+/// Whether a parsed TOML document looks like a scene file (it has a scene's section), to point a
+/// user who gave one to `study` at `run`.
+pub fn looks_like_scene(doc: &toml::Table) -> bool {
+    SCENE_SECTIONS.iter().any(|k| doc.contains_key(*k))
+}
+
 /// Loads an embedded scene by name (see [`EMBEDDED_SCENES`]) with `--set` overrides; its relative
 /// mesh paths name the meshes built into the binary (`<embedded>/meshes/bunny.obj`), else files of
 /// the current folder ([`mesh_path`]).
@@ -403,12 +422,19 @@ fn from_text_with(
     // First pass on the text itself, so unknown keys and wrong types are reported with their line;
     // an `[[obstacles]]` mistake by its key and line (the parser gives the header).
     let scene: Scene = toml::from_str(text).map_err(|e| {
-        toml::from_str::<toml::Table>(text)
-            .ok()
+        let table = toml::from_str::<toml::Table>(text).ok();
+        let hint = match &table {
+            Some(t) if crate::study::looks_like_study(t) && !looks_like_scene(t) => {
+                "\nthis looks like a study file (it has `scenes` or [[runs]] and no scene \
+                 section): run it with `adaptcloth study FILE`"
+            }
+            _ => "",
+        };
+        table
             .and_then(|t| diagnose::obstacle_error(&t, &checker))
             .unwrap_or_else(|| SceneError::Parse {
                 path: source.to_string(),
-                message: plain_types(e.to_string().trim_end()),
+                message: format!("{}{hint}", plain_types(e.to_string().trim_end())),
             })
     })?;
     if let Ok(given) = toml::from_str::<toml::Table>(text) {

@@ -632,3 +632,16 @@ fn the_file_is_valid_as_written_under_overrides() {
     }
     assert!(load_text("[time]\nduration = 0.1\n", &["time.duration=0.5"]).is_ok());
 }
+
+#[test]
+fn a_study_file_given_as_a_scene_is_named_as_such() {
+    let study = "scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\n";
+    let e = load_text(study, &[]).unwrap_err().to_string();
+    assert!(e.contains("this looks like a study file"), "{e}");
+    assert!(e.contains("adaptcloth study FILE"), "{e}");
+    // A scene with a mistake is not sent to `study`.
+    let e = load_text("[cloth]\nresolutoin = 9\n", &[])
+        .unwrap_err()
+        .to_string();
+    assert!(!e.contains("study file"), "{e}");
+}

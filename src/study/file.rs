@@ -241,6 +241,12 @@ fn form_of_key_at(text: &str, at: usize) -> Option<&'static str> {
     })
 }
 
+/// Whether a parsed TOML document looks like a study file (it has `scenes` or `runs`), to point
+/// a user who gave one to `run` at `study`.
+pub fn looks_like_study(doc: &toml::Table) -> bool {
+    doc.contains_key("scenes") || doc.contains_key("runs")
+}
+
 /// Parses study text; `source` names it in errors, `default_name` is used when it has no name,
 /// `dir` is the folder scene paths are relative to.
 pub fn parse_study(
@@ -253,8 +259,14 @@ pub fn parse_study(
     let file: StudyToml = toml::from_str(text).map_err(|e| {
         let hint = e.span().and_then(|span| form_of_key_at(text, span.start));
         let message = plain_types(e.to_string().trim_end());
+        let scene = toml::from_str::<toml::Table>(text)
+            .is_ok_and(|t| !looks_like_study(&t) && crate::scene::looks_like_scene(&t));
         StudyError::Config(match hint {
             Some(form) => format!("{source}: {message}\n{form}"),
+            None if scene => format!(
+                "{source}: {message}\nthis looks like a scene file (it has a scene's sections and \
+                 no `scenes` or [[runs]]): run it with `adaptcloth run FILE`"
+            ),
             None => format!("{source}: {message}"),
         })
     })?;

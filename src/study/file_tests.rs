@@ -322,3 +322,13 @@ fn a_label_that_would_break_the_table_is_refused() {
     let ok = "scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\nlabel = \"fine_dense\"\n";
     assert!(parse(ok).is_ok());
 }
+
+#[test]
+fn a_scene_file_given_as_a_study_is_named_as_such() {
+    let m = message("[cloth]\nresolution = 9\n[time]\nduration = 0.2\n");
+    assert!(m.contains("this looks like a scene file"), "{m}");
+    assert!(m.contains("adaptcloth run FILE"), "{m}");
+    // A study with a mistake is not sent to `run`.
+    let m = message("scenes = [\"sphere\"]\ncloth = 1\n[[runs]]\nstrategy = \"static\"\n");
+    assert!(!m.contains("scene file"), "{m}");
+}

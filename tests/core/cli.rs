@@ -93,6 +93,20 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", "--duration=-1"],
             "--duration -1: expected a finite value > 0",
         ),
+        // A negative value after a space is the option's value, not an unknown option.
+        (
+            vec!["run", "--duration", "-1"],
+            "--duration -1: expected a finite value > 0",
+        ),
+        (
+            vec!["render", "/dev/zero", "--width", "0"],
+            "invalid value '0' for '--width <WIDTH>': 0 is not in 1..=16384",
+        ),
+        (
+            vec!["study", "scenes/sphere.toml"],
+            "this looks like a scene file",
+        ),
+        (vec!["run", "studies/quick.toml"], "this looks like a study file"),
         // Found by the hostile sweep after issue 15: allocation aborts and endless reads.
         (
             vec![
