@@ -38,7 +38,10 @@ impl Drop for EndOfPhase<'_> {
 /// of rayon's pool that finds no work goes to sleep, and waking it for the next `rayon::join`
 /// took about 40 us here, a good part of what a conjugate-gradient solve's triangular solves
 /// share). Only where [`pool_thread_can_share`]; elsewhere it just runs `phase`. The price is
-/// a core kept busy for the phase; what `phase` computes does not depend on it.
+/// a core kept busy for the phase; what `phase` computes does not depend on it. Between looks
+/// for work the partner yields its core to the operating system rather than spinning: as fast
+/// on an idle machine, and on one where another process holds a core a 65x65 implicit run took
+/// 2.85-2.95 s instead of 3.89-3.95 s (docs/performance.md, "The fastest peer").
 ///
 /// The partner is a task queued before the phase's first split; rayon's thieves take a queue's
 /// oldest task first, so the partner is taken before any split of the phase, and the phase never
@@ -53,7 +56,7 @@ pub fn with_partner_awake<R>(phase: impl FnOnce() -> R) -> R {
         scope.spawn(|_| {
             while !done.load(Ordering::Acquire) {
                 if rayon::yield_now() != Some(rayon::Yield::Executed) {
-                    std::hint::spin_loop();
+                    std::thread::yield_now();
                 }
             }
         });
