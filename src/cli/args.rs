@@ -1,6 +1,7 @@
 //! The command line's arguments (clap): one struct per command. `src/main.rs` parses them and
 //! [`super::execute`] runs the command.
 
+use crate::report::render::MAX_SIDE;
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 
@@ -320,9 +321,9 @@ pub struct RenderArgs {
     pub height: u32,
 }
 
-/// `--width` and `--height`: 1 to 16384 pixels, the sizes a picture can be drawn at.
+/// `--width` and `--height`: 1 to [`MAX_SIDE`] pixels, the sizes a picture can be drawn at.
 fn picture_side() -> clap::builder::RangedU64ValueParser<u32> {
-    clap::builder::RangedU64ValueParser::<u32>::new().range(1..=16384)
+    clap::builder::RangedU64ValueParser::<u32>::new().range(1..=u64::from(MAX_SIDE))
 }
 
 /// `--jobs`: 1 to 1024 runs at once (0 is refused, not read as 1).

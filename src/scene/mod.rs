@@ -362,9 +362,14 @@ const SCENE_SECTIONS: [&str; 9] = [
     "tracked",
 ];
 
-/// Whether a parsed TOML document looks like a scene file (it has a scene's section), to point a
-/// user who gave one to `study` at `run`.
+/// Whether a parsed TOML document looks like a scene file (a scene's section and no study key),
+/// to point a user who gave one to `study` at `run`.
 pub fn looks_like_scene(doc: &toml::Table) -> bool {
+    has_scene_section(doc) && !crate::study::has_study_key(doc)
+}
+
+/// Whether a parsed TOML document has one of a scene file's sections.
+pub fn has_scene_section(doc: &toml::Table) -> bool {
     SCENE_SECTIONS.iter().any(|k| doc.contains_key(*k))
 }
 
@@ -424,7 +429,7 @@ fn from_text_with(
     let scene: Scene = toml::from_str(text).map_err(|e| {
         let table = toml::from_str::<toml::Table>(text).ok();
         let hint = match &table {
-            Some(t) if crate::study::looks_like_study(t) && !looks_like_scene(t) => {
+            Some(t) if crate::study::looks_like_study(t) => {
                 "\nthis looks like a study file (it has `scenes` or [[runs]] and no scene \
                  section): run it with `adaptcloth study FILE`"
             }

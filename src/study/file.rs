@@ -241,9 +241,14 @@ fn form_of_key_at(text: &str, at: usize) -> Option<&'static str> {
     })
 }
 
-/// Whether a parsed TOML document looks like a study file (it has `scenes` or `runs`), to point
-/// a user who gave one to `run` at `study`.
+/// Whether a parsed TOML document looks like a study file (`scenes` or `runs` and no scene
+/// section), to point a user who gave one to `run` at `study`.
 pub fn looks_like_study(doc: &toml::Table) -> bool {
+    has_study_key(doc) && !crate::scene::has_scene_section(doc)
+}
+
+/// Whether a parsed TOML document has `scenes` or `runs`, keys only a study file has.
+pub fn has_study_key(doc: &toml::Table) -> bool {
     doc.contains_key("scenes") || doc.contains_key("runs")
 }
 
@@ -259,8 +264,8 @@ pub fn parse_study(
     let file: StudyToml = toml::from_str(text).map_err(|e| {
         let hint = e.span().and_then(|span| form_of_key_at(text, span.start));
         let message = plain_types(e.to_string().trim_end());
-        let scene = toml::from_str::<toml::Table>(text)
-            .is_ok_and(|t| !looks_like_study(&t) && crate::scene::looks_like_scene(&t));
+        let scene =
+            toml::from_str::<toml::Table>(text).is_ok_and(|t| crate::scene::looks_like_scene(&t));
         StudyError::Config(match hint {
             Some(form) => format!("{source}: {message}\n{form}"),
             None if scene => format!(

@@ -24,7 +24,7 @@ pub mod table;
 
 pub use compare::{compare, CompareOptions};
 pub use config::{default_spec, parse_runs, RunConfig};
-pub use file::{load_study, looks_like_study, parse_study, RunTemplate, Study};
+pub use file::{has_study_key, load_study, looks_like_study, parse_study, RunTemplate, Study};
 pub use merge::merge;
 pub use plan::{plan, ScenePlan};
 pub use shard::Shard;

@@ -21,7 +21,7 @@ mod text;
 
 pub use obstacles::{obstacle_meshes, ObstacleMeshes};
 pub(crate) use picture::encode_png;
-pub use picture::{render_png, snapshot_grid, SnapshotRow};
+pub use picture::{render_png, snapshot_grid, SnapshotRow, MAX_SIDE};
 
 use std::path::PathBuf;
 

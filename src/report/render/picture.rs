@@ -34,7 +34,7 @@ const TEXT_COLOR: [u8; 3] = [20, 20, 20];
 /// Grid separator colour.
 const RULE_COLOR: [u8; 3] = [215, 215, 215];
 /// Largest picture side accepted (pixels).
-const MAX_SIDE: u32 = 16384;
+pub const MAX_SIDE: u32 = 16384;
 
 /// One row of a snapshot grid: a run's label and its frames at the chosen times.
 #[derive(Clone, Debug, Default)]
