@@ -1,0 +1,244 @@
+//! The study and compare commands on the command line: `--force`, the hints given for
+//! implicit runs, references announced, pages rewritten from a folder, study-wide keys.
+use super::cli::adaptcloth;
+use std::process::Command;
+
+/// `study --force` and `compare --force` run what the step estimate refuses, run by run; the
+/// reference is checked whatever `--force` says.
+#[test]
+fn study_and_compare_force_reaches_every_run_but_not_the_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("f.toml");
+    std::fs::write(
+        &file,
+        "scenes = [\"sphere\"]\nduration = 0.02\n[reference]\nresolution = 5\nfloor = 3\n\
+         samples = 4\n[[runs]]\nstrategy = \"static\"\nresolution = 3\nset = { \
+         \"time.dt_initial\" = 1e-300, \"cloth.velocity\" = [0.0, 0.0, 1.0], \
+         \"time.max_speed\" = 0.5 }\n",
+    )
+    .unwrap();
+    let (out, cache) = (dir.path().join("o"), dir.path().join("cache"));
+    let mut args = vec![
+        "study",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--cache",
+        cache.to_str().unwrap(),
+        "--quiet",
+    ];
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("run static-3-rk4: this run would take"),
+        "{err}"
+    );
+    assert!(err.contains("--force runs it anyway"), "{err}");
+    assert!(!cache.exists(), "nothing runs before the check");
+    args.push("--force");
+    let (code, err) = adaptcloth(&args);
+    assert_eq!(code, 0, "{err}");
+    let summary = std::fs::read_to_string(out.join("sphere/runs/static-3-rk4/summary.json"));
+    assert!(summary.unwrap().contains("\"status\": \"diverged\""));
+    for command in ["study", "compare"] {
+        let help = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+            .args([command, "--help"])
+            .output()
+            .unwrap();
+        let help = String::from_utf8_lossy(&help.stdout).into_owned();
+        assert!(
+            help.lines()
+                .any(|l| l.trim() == "--force" || l.trim().starts_with("--force ")),
+            "{command}: {help}"
+        );
+    }
+    let (code, err) = adaptcloth(&[
+        "compare",
+        "--runs",
+        "static@3",
+        "--set",
+        "material.E=1e308",
+        "--ref-resolution",
+        "5",
+        "--floor-resolution",
+        "3",
+        "--cache",
+        cache.to_str().unwrap(),
+        "--out",
+        dir.path().join("c").to_str().unwrap(),
+        "--force",
+    ]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("the reference run of <embedded sphere> (not covered by --force)"),
+        "{err}"
+    );
+}
+
+/// An integrator stable at any step on its scene's dynamic step (set by the explicit
+/// integrators' stability) is told so, with how to fix the step, by `run` and by a study (naming
+/// the run); nothing is said on a fixed step or for an explicit integrator.
+#[test]
+fn implicit_runs_on_the_dynamic_step_are_told_how_to_take_large_steps() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("o");
+    let out = out.to_str().unwrap();
+    let note = "takes the scene's dynamic step";
+    let run = |extra: &[&str]| {
+        let mut args = vec!["run", "--quiet", "--duration", "0.01", "--out", out];
+        args.extend_from_slice(extra);
+        let (code, err) = adaptcloth(&args);
+        assert_eq!(code, 0, "{err}");
+        err
+    };
+    let err = run(&["--integrator", "implicit_euler"]);
+    assert!(
+        err.contains(note) && err.contains("--set time.mode=fixed"),
+        "{err}"
+    );
+    assert!(run(&["--integrator", "bdf2"]).contains(note));
+    let fixed = ["--set", "time.mode=fixed", "--set", "time.dt=0.002"];
+    let err = run(&[&["--integrator", "implicit_euler"][..], &fixed[..]].concat());
+    assert!(!err.contains(note), "{err}");
+    let err = run(&["--integrator", "rk4"]);
+    assert!(!err.contains(note), "{err}");
+
+    let args = small_study(
+        dir.path(),
+        "duration = 0.01",
+        "[[runs]]\nstrategy = \"static\"\nintegrator = \"implicit_euler\"\nresolution = 5\n\
+         [[runs]]\nlabel = \"fixed\"\nstrategy = \"static\"\nintegrator = \"implicit_euler\"\n\
+         resolution = 5\ndt = 0.002\n",
+    );
+    let (code, err) = adaptcloth(&strs(&args));
+    assert_eq!(code, 0, "{err}");
+    let line = err
+        .lines()
+        .find(|l| l.contains("take the scene's dynamic step"))
+        .expect("a note");
+    assert!(line.contains("static-5-implicit_euler"), "{line}");
+    assert!(!line.contains("fixed-5"), "{line}");
+}
+
+/// A reference to compute is announced, with its grids and step counts, before it is computed;
+/// once cached, it is not.
+#[test]
+fn a_reference_to_compute_is_announced_before_it_runs() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = small_study(
+        dir.path(),
+        "duration = 0.01",
+        "[[runs]]\nstrategy = \"static\"\nresolution = 5\n",
+    );
+    let (code, err) = adaptcloth(&strs(&args));
+    assert_eq!(code, 0, "{err}");
+    let announced = err
+        .lines()
+        .position(|l| l.contains("computing static 9x9") && l.contains("floor 5x5"))
+        .expect("the reference announced");
+    let done = err
+        .lines()
+        .position(|l| l.starts_with("reference sphere: static 9x9"))
+        .expect("the reference reported");
+    assert!(announced < done, "{err}");
+    let (code, err) = adaptcloth(&strs(&args));
+    assert_eq!(code, 0, "{err}");
+    assert!(!err.contains("computing static"), "{err}");
+}
+
+/// A study's pages are the ones `adaptcloth report` makes from its folder afterwards: made from
+/// the tables as written, not from the unrounded numbers in memory.
+#[test]
+fn report_on_a_study_folder_rewrites_the_same_pages() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = small_study(
+        dir.path(),
+        "duration = 0.02",
+        "[[runs]]\nstrategy = \"static\"\nsweep = { \"cloth.resolution\" = [3, 5] }\n\
+         [[runs]]\nstrategy = \"bisect48\"\nresolution = 3\n",
+    );
+    let out = dir.path().join("out");
+    let (code, err) = adaptcloth(&strs(&args));
+    assert_eq!(code, 0, "{err}");
+    let folder = out.join("sphere");
+    let read = |f: &str| std::fs::read(folder.join(f)).unwrap();
+    let (report, table) = (read("report.md"), read("comparison.csv"));
+    let (code, err) = adaptcloth(&["report", folder.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(read("report.md") == report, "report.md differs");
+    assert!(read("comparison.csv") == table, "comparison.csv differs");
+}
+
+/// A study-wide `h_min` reaches every run, its static baseline included, which ignores it; a
+/// run on its own with `h_min` and the static strategy runs, told that `h_min` is ignored, and
+/// so does its rerun line (its resolved scene keeps `h_min`).
+#[test]
+fn a_study_wide_h_min_leaves_its_static_baseline_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let alone = dir.path().join("alone");
+    let (code, err) = adaptcloth(&[
+        "run",
+        "--quiet",
+        "--duration",
+        "0.01",
+        "--set",
+        "adaptivity.h_min=0.03",
+        "--out",
+        alone.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("adaptivity.h_min = 0.03 is ignored") && err.contains("--strategy bisect48"),
+        "{err}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(alone.join("summary.json")).unwrap())
+            .unwrap();
+    let rerun = summary["rerun"].as_str().unwrap();
+    let status = Command::new("sh")
+        .arg("-c")
+        .arg(format!("{rerun} --quiet"))
+        .stderr(std::process::Stdio::null())
+        .status()
+        .unwrap();
+    assert!(status.success(), "{rerun}");
+
+    let args = small_study(
+        dir.path(),
+        "duration = 0.01\nset = { \"adaptivity.h_min\" = 0.03 }",
+        "[[runs]]\nstrategy = \"static\"\nresolution = 5\n\
+         [[runs]]\nstrategy = \"bisect48\"\nresolution = 5\n",
+    );
+    let out = dir.path().join("out");
+    let (code, err) = adaptcloth(&strs(&args));
+    assert_eq!(code, 0, "{err}");
+    let table = std::fs::read_to_string(out.join("sphere/comparison.csv")).unwrap();
+    assert_eq!(table.matches(",completed,").count(), 2, "{table}");
+}
+
+/// Writes `DIR/s.toml`, a study of the sphere with a 9x9 reference and a 5x5 floor, its
+/// top-level keys `top` (`duration = ...` first) and its `[[runs]]` entries `runs`; the
+/// arguments that run it quietly into `DIR/out`, its references cached in `DIR/cache`.
+fn small_study(dir: &std::path::Path, top: &str, runs: &str) -> Vec<String> {
+    let study = dir.join("s.toml");
+    let text = format!(
+        "name = \"s\"\ndescription = \"d\"\nscenes = [\"sphere\"]\n{top}\n\
+         [reference]\nresolution = 9\nfloor = 5\n{runs}"
+    );
+    std::fs::write(&study, text).unwrap();
+    let path = |p: std::path::PathBuf| p.to_str().unwrap().to_string();
+    vec![
+        "study".into(),
+        path(study),
+        "--quiet".into(),
+        "--out".into(),
+        path(dir.join("out")),
+        "--cache".into(),
+        path(dir.join("cache")),
+    ]
+}
+
+/// `args` as the string slices [`adaptcloth`] takes.
+fn strs(args: &[String]) -> Vec<&str> {
+    args.iter().map(String::as_str).collect()
+}
