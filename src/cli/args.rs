@@ -62,7 +62,7 @@ pub enum Command {
         #[arg(long)]
         write_docs: bool,
         /// The document to update with --write-docs.
-        #[arg(long, default_value = "docs/integrators.md")]
+        #[arg(long, default_value = "docs/integrators.md", requires = "write_docs")]
         docs: PathBuf,
     },
     /// Run the stability suite (bisection of the largest stable step, hard cases for every built
@@ -102,9 +102,10 @@ pub struct ReportArgs {
     /// results.md over these comparisons.
     #[command(flatten)]
     pub docs: DocsArgs,
-    /// The command to name in results.md as the one that regenerates it.
+    /// The command to name in results.md as the one that regenerates it (with --write-docs).
     #[arg(
         long,
+        requires = "write_docs",
         default_value = "adaptcloth study studies/results.toml --jobs 2 --write-docs docs --docs-notes studies/results-notes.md"
     )]
     pub docs_command: String,
@@ -225,8 +226,9 @@ pub struct DocsArgs {
     /// Also write DIR/results.md (and its plots under DIR/results/) over the comparisons.
     #[arg(long, value_name = "DIR")]
     pub write_docs: Option<PathBuf>,
-    /// Extra markdown file included in results.md after the introduction (settings, costs).
-    #[arg(long, value_name = "FILE")]
+    /// Extra markdown file included in results.md after the introduction (settings, costs);
+    /// only with --write-docs.
+    #[arg(long, value_name = "FILE", requires = "write_docs")]
     pub docs_notes: Option<PathBuf>,
 }
 

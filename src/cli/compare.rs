@@ -420,12 +420,27 @@ pub fn merge(args: MergeArgs) -> Result<(), CliError> {
 /// `adaptcloth report`: rewrite the plots and reports of comparison folders, and results.md.
 pub fn report(args: ReportArgs) -> Result<(), CliError> {
     let notes = read_notes(&args.docs)?;
-    let mut done = Vec::new();
+    let mut done: Vec<(PathBuf, Comparison)> = Vec::new();
     for dir in &args.dirs {
         let comparison = study::read_comparison(dir).map_err(refused_by("report"))?;
-        crate::report::write_report(dir, &comparison)?;
-        crate::note!("{}", dir.join("report.md").display());
+        // results.md has one section and one plot folder per scene.
+        let scene = &comparison.manifest.scene;
+        if let Some((first, _)) = done.iter().find(|(_, c)| &c.manifest.scene == scene) {
+            if args.docs.write_docs.is_some() {
+                return Err(CliError::Input(format!(
+                    "report: {} and {} are both comparisons of scene {scene}: --write-docs \
+                     writes one section and one plot folder (results/{scene}/) per scene, so \
+                     the second would overwrite the first's plots; give one folder per scene",
+                    first.display(),
+                    dir.display()
+                )));
+            }
+        }
         done.push((dir.clone(), comparison));
+    }
+    for (dir, comparison) in &done {
+        crate::report::write_report(dir, comparison)?;
+        crate::note!("{}", dir.join("report.md").display());
     }
     write_docs(args.docs.write_docs, &done, &args.docs_command, notes)
 }

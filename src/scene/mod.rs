@@ -564,12 +564,25 @@ pub fn resolved_toml(loaded: &LoadedScene, command: &str) -> String {
     let body = toml::to_string(&scene).unwrap_or_else(|e| format!("# not serializable: {e}\n"));
     format!(
         "# The scene this run ran, after every override (adaptcloth {}).\n\
-         # Command: {command}\n\
+         # Command: {}\n\
          # Scene from: {}\n\
          # Run it alone again: adaptcloth run <this file>\n\n{body}",
         env!("CARGO_PKG_VERSION"),
-        loaded.source
+        comment_safe(command),
+        comment_safe(&loaded.source)
     )
+}
+
+/// `text` with its control characters escaped (`\n` as the two characters `\` `n`), so it stays
+/// inside one TOML comment line: a newline in an argument made the rest of it a line of the
+/// resolved scene.
+fn comment_safe(text: &str) -> String {
+    text.chars()
+        .map(|c| match c.is_control() {
+            true => c.escape_default().to_string(),
+            false => c.to_string(),
+        })
+        .collect()
 }
 
 use serde::Deserialize;

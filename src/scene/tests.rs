@@ -308,6 +308,23 @@ fn the_resolved_scene_loads_back_to_the_same_scene_from_another_folder() {
     }
 }
 
+/// A newline in the command (an argument of `--set`) stays inside the comment: it made the rest
+/// of the argument a line of the resolved scene, which then failed to load (`[bogus]`).
+#[test]
+fn a_newline_in_the_command_stays_in_its_comment() {
+    let loaded = load_embedded("sphere", &[]).unwrap().unwrap();
+    let text = resolved_toml(
+        &loaded,
+        "adaptcloth run --set 'description=x\n[bogus]\ny=1'\r",
+    );
+    assert!(
+        text.contains("# Command: adaptcloth run --set 'description=x\\n[bogus]\\ny=1'\\r\n"),
+        "{text}"
+    );
+    let back = load_text(&text, &[]).unwrap();
+    assert_eq!(back.scene, loaded.scene);
+}
+
 #[test]
 fn sizing_keys_need_the_sizing_criteria_and_rounds_are_bounded() {
     let e = load_text("", &["adaptivity.size_angle=0.1"]).unwrap_err();

@@ -347,6 +347,13 @@ pub fn read_comparison(dir: &Path) -> Result<Comparison, StudyError> {
     let bad = |why: String| StudyError::Config(format!("{}: {why}", path.display()));
     let text = crate::io::read_text(&path).map_err(|e| bad(format!("cannot be read: {e}")))?;
     let manifest: Manifest = serde_json::from_str(&text).map_err(|e| bad(e.to_string()))?;
+    // The scene names the folder of its plots under `--write-docs DIR/results/`.
+    if crate::io::folder_label(&manifest.scene) != manifest.scene {
+        return Err(bad(format!(
+            "scene `{}` is not a plain folder name",
+            manifest.scene
+        )));
+    }
     let rows = read_csv(&dir.join("comparison.csv"))?;
     Ok(Comparison { manifest, rows })
 }

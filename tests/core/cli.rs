@@ -58,6 +58,8 @@ fn bad_input_exits_2_with_a_clear_message() {
     std::fs::write(&empty, "# nothing\n\n").unwrap();
     // A file where the output folder should be, or one of its parents.
     let file_out = empty.to_str().unwrap();
+    let docs = dir.path().join("docs");
+    let docs_dir = docs.to_str().unwrap();
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["run", "--out", file_out], "it is a file, not a folder"),
         (vec!["study", "--out", file_out], "is a file, not a folder"),
@@ -117,8 +119,17 @@ fn bad_input_exits_2_with_a_clear_message() {
         (vec!["run", "/dev/zero"], "not a regular file"),
         (vec!["study", "/dev/zero"], "not a regular file"),
         (
-            vec!["compare", "--docs-notes", "/dev/zero"],
+            vec!["compare", "--docs-notes", "/dev/zero", "--write-docs", docs_dir],
             "not a regular file",
+        ),
+        // Options that only mean something with --write-docs were ignored without it.
+        (
+            vec!["report", "out", "--docs-notes", "notes.md"],
+            "--write-docs <DIR>",
+        ),
+        (
+            vec!["integrators", "--docs", "docs/x.md"],
+            "--write-docs",
         ),
         (
             vec!["render", "/dev/zero", "--out", "/nonexistent/x.png"],

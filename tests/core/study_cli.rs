@@ -167,6 +167,47 @@ fn report_on_a_study_folder_rewrites_the_same_pages() {
     assert_eq!(code, 0, "{err}");
     assert!(read("report.md") == report, "report.md differs");
     assert!(read("comparison.csv") == table, "comparison.csv differs");
+
+    // Two comparisons of one scene would share results/sphere/: refused with --write-docs
+    // before anything is written, accepted without.
+    let copy = dir.path().join("copy");
+    std::fs::create_dir_all(&copy).unwrap();
+    for f in ["comparison.json", "comparison.csv"] {
+        std::fs::copy(folder.join(f), copy.join(f)).unwrap();
+    }
+    let docs = dir.path().join("docs");
+    let (folder_s, copy_s, docs_s) = (
+        folder.to_str().unwrap(),
+        copy.to_str().unwrap(),
+        docs.to_str().unwrap(),
+    );
+    let (code, err) = adaptcloth(&["report", folder_s, copy_s, "--write-docs", docs_s]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("both comparisons of scene sphere"), "{err}");
+    assert!(!docs.join("results.md").exists(), "{err}");
+    assert!(!copy.join("report.md").exists(), "{err}");
+    let (code, err) = adaptcloth(&["report", folder_s, copy_s]);
+    assert_eq!(code, 0, "{err}");
+
+    // The scene names the plots' folder: one that leaves the docs folder is refused (it wrote
+    // DIR/results/../../../x).
+    let json = copy.join("comparison.json");
+    let text = std::fs::read_to_string(&json).unwrap();
+    let escaped = dir.path().join("escaped");
+    let scene = "../../escaped";
+    std::fs::write(
+        &json,
+        text.replacen(
+            "\"scene\": \"sphere\"",
+            &format!("\"scene\": \"{scene}\""),
+            1,
+        ),
+    )
+    .unwrap();
+    let (code, err) = adaptcloth(&["report", copy_s, "--write-docs", docs_s]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("is not a plain folder name"), "{err}");
+    assert!(!escaped.exists() && !docs.join("results.md").exists());
 }
 
 /// A study-wide `h_min` reaches every run, its static baseline included, which ignores it; a
