@@ -345,13 +345,23 @@ fn run_plans(
         };
         crate::report::write_report(&out, &comparison)?;
         let (runs, secs) = (comparison.rows.len(), clock.elapsed().as_secs_f64());
-        crate::note!("{}: {runs} run(s) in {secs:.1} s", clip(scene));
+        let stopped = interrupt.load(Ordering::SeqCst);
+        if stopped {
+            let completed = comparison.rows.iter().filter(|r| r.completed()).count();
+            crate::note!(
+                "{}: interrupted after {secs:.1} s: {completed} of {runs} run(s) completed, the \
+                 others are listed as not run in report.md",
+                clip(scene)
+            );
+        } else {
+            crate::note!("{}: {runs} run(s) in {secs:.1} s", clip(scene));
+        }
         crate::say!(
             "{}report: {}\n",
             crate::report::ranking::ranking(&comparison),
             out.join("report.html").display()
         );
-        if interrupt.load(Ordering::SeqCst) {
+        if stopped {
             return Err(CliError::Interrupted(String::new()));
         }
         done.push((out, comparison));

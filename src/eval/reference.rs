@@ -161,6 +161,14 @@ const DIVERGED_HINT: &str = "\n(the reference and floor runs take the scene keys
 
 /// What may have made a reference or floor run end with `status`: [`DIVERGED_HINT`] for a
 /// divergence, nothing otherwise.
+/// `status: message`, or the message alone for an interrupted run (it says so itself).
+fn how_it_ended(status: RunStatus, message: &str) -> String {
+    match status {
+        RunStatus::Interrupted => message.to_string(),
+        _ => format!("{status:?}: {message}"),
+    }
+}
+
 fn hint_for(status: RunStatus) -> &'static str {
     if status == RunStatus::Diverged {
         DIVERGED_HINT
@@ -185,7 +193,8 @@ pub enum ReferenceError {
     Setup(#[from] crate::sim::SetupError),
     /// A run ended without completing.
     #[error(
-        "the {what} run ({resolution}x{resolution}) did not complete: {status:?}: {message}{}",
+        "the {what} run ({resolution}x{resolution}) did not complete: {}{}",
+        how_it_ended(*.status, .message),
         hint_for(*.status)
     )]
     RunFailed {
@@ -505,6 +514,15 @@ pub fn ensure_reference(
         }
         r
     };
+    let completed = |what, resolution, s: RunSummary| match s.status {
+        RunStatus::Completed => Ok(s),
+        status => Err(ReferenceError::RunFailed {
+            what,
+            resolution,
+            status,
+            message: s.message,
+        }),
+    };
     let (reference, floor) = if jobs >= 2 {
         std::thread::scope(|s| {
             let f = s.spawn(|| run(jobs_floor));
@@ -512,22 +530,21 @@ pub fn ensure_reference(
             (r, f.join().expect("floor run thread"))
         })
     } else {
-        (run(jobs_ref), run(jobs_floor))
+        // One after the other: a reference that did not complete (interrupted, diverged)
+        // starts no floor run.
+        let r = match run(jobs_ref).and_then(|r| completed("reference", settings.resolution, r)) {
+            Ok(r) => r,
+            Err(e) => {
+                if let Some(b) = &jobs_floor.2 {
+                    b.finish_and_clear();
+                }
+                return Err(e);
+            }
+        };
+        (Ok(r), run(jobs_floor))
     };
-    let (reference, floor) = (reference?, floor?);
-    for (what, res, s) in [
-        ("reference", settings.resolution, &reference),
-        ("floor", settings.floor_resolution, &floor),
-    ] {
-        if s.status != RunStatus::Completed {
-            return Err(ReferenceError::RunFailed {
-                what,
-                resolution: res,
-                status: s.status,
-                message: s.message.clone(),
-            });
-        }
-    }
+    let reference = completed("reference", settings.resolution, reference?)?;
+    let floor = completed("floor", settings.floor_resolution, floor?)?;
     let trajectory = reference.trajectory.clone().expect("sampled run");
     let floor_traj = floor.trajectory.clone().expect("sampled run");
     let e: ErrorReport = metrics::compare(&floor_traj, &trajectory)?;

@@ -73,6 +73,9 @@ pub fn ranking(c: &Comparison) -> String {
                 fmt_e(r.e_rms),
             );
         }
+        if rows.is_empty() {
+            let _ = writeln!(s, "  (no adaptive run completed with {integrator})");
+        }
         if !rows.is_empty()
             && rows
                 .iter()
@@ -159,5 +162,23 @@ mod tests {
         assert!(text.contains("none of these runs is resolved"), "{text}");
         c.manifest.reference.floor.e_rms = 0.9e-2; // bisect48 at 2e-2 is now resolved
         assert!(!ranking(&c).contains("none of these runs is resolved"));
+    }
+
+    /// A study interrupted before its adaptive runs completed says so instead of an empty table.
+    #[test]
+    fn a_ranking_without_completed_adaptive_runs_says_so() {
+        let rows = [
+            run("static", "static", 9, 1.0, 4e-2),
+            run("bisect48", "bisect48", 5, 2.0, 2e-2),
+        ];
+        let mut c = comparison(&rows);
+        let text = ranking(&c);
+        assert!(!text.contains("no adaptive run completed"), "{text}");
+        c.rows[1].status = "not run".into();
+        let text = ranking(&c);
+        assert!(
+            text.contains("(no adaptive run completed with rk4)"),
+            "{text}"
+        );
     }
 }

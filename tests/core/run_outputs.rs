@@ -269,7 +269,8 @@ fn sigterm_and_sighup_stop_a_run_cleanly() {
     }
 }
 
-/// A study stopped while its reference runs exits as interrupted (130), not as failed.
+/// A study stopped while its reference runs exits as interrupted (130), not as failed, and
+/// starts nothing after it.
 #[test]
 fn a_study_interrupted_during_its_reference_exits_130() {
     let dir = tempfile::tempdir().unwrap();
@@ -304,6 +305,11 @@ fn a_study_interrupted_during_its_reference_exits_130() {
     let err = String::from_utf8_lossy(&output.stderr);
     assert_eq!(output.status.code(), Some(130), "{err}");
     assert!(err.contains("interrupted"), "{err}");
+    assert!(!err.contains("Interrupted: interrupted"), "{err}");
+    // One job: the floor run comes after the reference, and an interrupted reference starts
+    // no floor run.
+    let entry = std::fs::read_dir(&cache).unwrap().next().unwrap().unwrap();
+    assert!(!entry.path().join("floor").exists(), "{err}");
 }
 
 /// Two interrupts in quick succession are one: `timeout -s INT` signals the command and then its
