@@ -9,7 +9,7 @@ use super::grid::DistanceGrid;
 use super::mesh_faces::MeshObstacle;
 use super::motion::{ObstacleMotion, RigidVelocity};
 use super::params::{Obstacle, ObstacleShape};
-use crate::math::{Real, Vec3};
+use crate::math::{Real, Vec3, MAX_COORDINATE};
 use parry3d_f64::bounding_volume::Aabb;
 use parry3d_f64::math::{Pose, Vector};
 use parry3d_f64::query::{PointProjection, PointQuery, Ray, RayCast, RayCullingMode};
@@ -528,7 +528,35 @@ fn mesh_geometry(
             ),
         });
     }
-    let triangles = obj.triangles().map(|(_, t)| t.map(|i| i as u32)).collect();
+    let farthest = vertices
+        .iter()
+        .fold(0.0, |m: Real, v| m.max(v.abs().max_element()));
+    if farthest > MAX_COORDINATE {
+        return Err(CollisionError::BadShape {
+            index,
+            message: format!(
+                "mesh `{}` scaled by {scale:e} and moved by {translation:?} reaches {farthest:.3e} m \
+                 from the origin: expected coordinates within ±{MAX_COORDINATE:e} m (check \
+                 `scale` and `translation`)",
+                file.display()
+            ),
+        });
+    }
+    let triangles: Vec<[u32; 3]> = obj.triangles().map(|(_, t)| t.map(|i| i as u32)).collect();
+    let area = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|i| vertices[i as usize]);
+        (b - a).cross(c - a).length()
+    };
+    if !triangles.iter().any(|t| area(t) > 0.0) {
+        return Err(CollisionError::BadShape {
+            index,
+            message: format!(
+                "mesh `{}`: no face has a positive area: an obstacle mesh needs at least one \
+                 triangle that is not flat",
+                file.display()
+            ),
+        });
+    }
     let mesh = TriMesh::with_flags(
         vertices,
         triangles,

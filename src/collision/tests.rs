@@ -515,6 +515,19 @@ fn mesh_obstacle_files_report_the_line_and_need_faces() {
         "{err}"
     );
     assert!(scaled(1e-6).is_ok());
+    // Scaled beyond a million metres: refused (it was accepted and drew a blank picture).
+    let err = scaled(1e300).err().expect("error");
+    assert!(err.to_string().contains("within ±1e6 m"), "{err}");
+    assert!(scaled(1e5).is_ok());
+    // Only flat faces: nothing to collide with.
+    let flat = mesh("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n");
+    let err = Obstacles::build(&[flat], &collision())
+        .err()
+        .expect("error");
+    assert!(
+        err.to_string().contains("no face has a positive area"),
+        "{err}"
+    );
 }
 
 #[test]

@@ -9,7 +9,7 @@
 //! order).
 use super::{Mesh, MeshError};
 use crate::io::obj::{read_obj, ObjCorner, ObjFile};
-use crate::math::{signed_area, Vec2, Vec3};
+use crate::math::{signed_area, Real, Vec2, Vec3, MAX_COORDINATE};
 use std::path::Path;
 
 /// A cloth read from OBJ: the mesh (rest space from `vt`) and the world positions.
@@ -80,6 +80,22 @@ pub enum ObjError {
         /// [`super::MAX_VERTICES`].
         max: usize,
     },
+    /// A vertex position or texture coordinate lies beyond [`crate::math::MAX_COORDINATE`].
+    #[error(
+        "{path}: {what} {index} is {value:e} m from the origin; expected coordinates within \
+         ±{:e} m",
+        MAX_COORDINATE
+    )]
+    OutOfRange {
+        /// The file.
+        path: String,
+        /// `vertex` (`v`) or `texture coordinate` (`vt`).
+        what: &'static str,
+        /// Its index (1-based, as in the file).
+        index: usize,
+        /// Its largest coordinate's size.
+        value: Real,
+    },
     /// The file has no face.
     #[error("{path}: no face (`f`) statement")]
     NoFaces {
@@ -112,6 +128,24 @@ pub(crate) fn parse_obj(text: &str, path: &str) -> Result<ObjCloth, ObjError> {
 }
 
 /// The cloth of a parsed OBJ file; `path` names the source in errors.
+/// The first of `rows` (`what`s of the file `path`, in file order) with a coordinate beyond
+/// [`MAX_COORDINATE`], as an error.
+fn far_coordinate<'a>(
+    path: &str,
+    what: &'static str,
+    rows: impl Iterator<Item = &'a [Real]>,
+) -> Option<ObjError> {
+    rows.enumerate().find_map(|(k, row)| {
+        let value = row.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
+        (value > MAX_COORDINATE).then(|| ObjError::OutOfRange {
+            path: path.to_string(),
+            what,
+            index: k + 1,
+            value,
+        })
+    })
+}
+
 fn cloth_from_obj(obj: &ObjFile, path: &str) -> Result<ObjCloth, ObjError> {
     let no_tex = |line| ObjError::NoTexCoords {
         path: path.to_string(),
@@ -135,6 +169,17 @@ fn cloth_from_obj(obj: &ObjFile, path: &str) -> Result<ObjCloth, ObjError> {
         return Err(ObjError::NoFaces {
             path: path.to_string(),
         });
+    }
+    let positions_far = far_coordinate(path, "vertex", obj.positions.iter().map(|p| &p[..]));
+    let texcoords_far = || {
+        far_coordinate(
+            path,
+            "texture coordinate",
+            obj.texcoords.iter().map(|t| &t[..]),
+        )
+    };
+    if let Some(e) = positions_far.or_else(texcoords_far) {
+        return Err(e);
     }
     let positions: Vec<Vec3> = obj
         .positions
@@ -284,6 +329,23 @@ mod tests {
         text.push_str("vt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n");
         let e = parse_obj(&text, "big.obj").unwrap_err().to_string();
         assert!(e.contains("at most 4000000"), "{e}");
+    }
+
+    /// A vertex or rest coordinate beyond a million metres is refused by its index (a cloth
+    /// vertex at 1e300 m was accepted and the run diverged at its first step).
+    #[test]
+    fn coordinates_beyond_a_million_metres_are_refused() {
+        let cloth = |v: &str, vt: &str| {
+            let text = format!("v 0 0 0\n{v}\nv 0 1 0\nvt 0 0\n{vt}\nvt 0 1\nf 1/1 2/2 3/3\n");
+            parse_obj(&text, "far.obj")
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        };
+        let e = cloth("v 1e300 0 0", "vt 1 0").unwrap_err();
+        assert!(e.contains("far.obj: vertex 2 is 1e300 m"), "{e}");
+        let e = cloth("v 1 0 0", "vt -2e6 0").unwrap_err();
+        assert!(e.contains("texture coordinate 2 is 2e6 m"), "{e}");
+        assert!(cloth("v 1e6 0 0", "vt 1 0").is_ok());
     }
 
     #[test]

@@ -4,7 +4,7 @@
 use super::adaptivity::{sizing_options, strategy_options};
 use super::{ClothShape, ObstacleShape, Scene, SceneError};
 use crate::console::clip;
-use crate::math::Real;
+use crate::math::{Real, Vec3, MAX_COORDINATE};
 use std::path::Path;
 
 /// The range a scalar must lie in.
@@ -22,6 +22,10 @@ const MIN_LENGTH: Real = 1e-6;
 const MAX_LENGTH: Real = 1e6;
 /// Largest cloth thickness for self-collision (m): every pair closer than it is tested each step.
 const MAX_THICKNESS: Real = 0.05;
+
+/// Largest gravity accepted (m/s², about 1000 g): a cloth under more passes `time.max_speed`'s
+/// default of 100 m/s within 10 ms, and at 1e300 m/s² the first step overflowed.
+const MAX_GRAVITY: Real = 1e4;
 
 /// Most output frames a run may ask for (`duration x frame_rate`).
 const MAX_FRAMES: Real = 1e5;
@@ -146,6 +150,38 @@ impl Checker<'_> {
         }
     }
 
+    /// A position (m): three finite coordinates within [`MAX_COORDINATE`] of the origin.
+    pub(super) fn position3(&self, key: &str, v: [Real; 3]) -> Result<(), SceneError> {
+        if v.iter().all(|c| c.abs() <= MAX_COORDINATE) {
+            Ok(())
+        } else {
+            Err(self.fail(
+                key,
+                format!("{v:?}"),
+                &format!("expected three finite coordinates within ±{MAX_COORDINATE:e} m"),
+            ))
+        }
+    }
+
+    /// A velocity (m/s): finite and slower than `time.max_speed`, at which a run counts as
+    /// diverged (a cloth started faster ended its run as diverged at its first step).
+    fn speed3(&self, key: &str, v: [Real; 3], max_speed: Real) -> Result<(), SceneError> {
+        self.finite3(key, v)?;
+        let speed = magnitude(v);
+        if speed < max_speed {
+            Ok(())
+        } else {
+            Err(self.fail(
+                key,
+                format!("{v:?}"),
+                &format!(
+                    "expected a speed below time.max_speed = {max_speed:e} m/s (a run \
+                     faster than it counts as diverged); this one is {speed:e} m/s"
+                ),
+            ))
+        }
+    }
+
     pub(super) fn finite3(&self, key: &str, v: [Real; 3]) -> Result<(), SceneError> {
         if v.iter().all(|c| c.is_finite()) {
             Ok(())
@@ -186,9 +222,9 @@ pub(super) fn validate(
             ));
         }
     }
-    c.finite3("cloth.center", cloth.center)?;
+    c.position3("cloth.center", cloth.center)?;
     c.finite3("cloth.rotation_deg", cloth.rotation_deg)?;
-    c.finite3("cloth.velocity", cloth.velocity)?;
+    c.speed3("cloth.velocity", cloth.velocity, scene.time.max_speed)?;
     // The vertex count the cloth starts with (an OBJ cloth's is checked when it is read).
     let start = match cloth.shape {
         ClothShape::Grid => {
@@ -271,6 +307,14 @@ pub(super) fn validate(
     }
 
     c.finite3("forces.g", scene.forces.g)?;
+    let g = magnitude(scene.forces.g);
+    if g > MAX_GRAVITY {
+        return Err(c.fail(
+            "forces.g",
+            format!("{:?}", scene.forces.g),
+            &format!("expected an acceleration of at most {MAX_GRAVITY:e} m/s² (about 1000 g)"),
+        ));
+    }
     let (m, t) = (&scene.material, &scene.time);
     use Range::{NonNegative, Positive};
     c.ranges(&[
@@ -342,6 +386,13 @@ pub(super) fn validate(
             "expected at most one velocity per pinned point",
         ));
     }
+    for (k, &v) in scene.cloth.pinned_velocity.iter().enumerate() {
+        c.speed3(
+            &format!("cloth.pinned_velocity.{k}"),
+            v,
+            scene.time.max_speed,
+        )?;
+    }
     c.positive("integrator.cg_tolerance", scene.integrator.cg_tolerance)?;
     // Loops inside one step are bounded, so a step (and Ctrl-C between steps) never waits on
     // billions of passes.
@@ -381,7 +432,7 @@ pub(super) fn validate(
                 }
             }
             ObstacleShape::Sphere { center, radius } => {
-                c.finite3(&key("center"), *center)?;
+                c.position3(&key("center"), *center)?;
                 c.length(&key("radius"), *radius)?;
             }
             ObstacleShape::Cylinder {
@@ -389,7 +440,7 @@ pub(super) fn validate(
                 radius,
                 height,
             } => {
-                c.finite3(&key("center"), *center)?;
+                c.position3(&key("center"), *center)?;
                 c.length(&key("radius"), *radius)?;
                 c.length(&key("height"), *height)?;
             }
@@ -397,7 +448,7 @@ pub(super) fn validate(
                 center,
                 half_extents,
             } => {
-                c.finite3(&key("center"), *center)?;
+                c.position3(&key("center"), *center)?;
                 for h in half_extents {
                     c.length(&key("half_extents"), *h)?;
                 }
@@ -408,7 +459,7 @@ pub(super) fn validate(
                 translation,
             } => {
                 c.positive(&key("scale"), *scale)?;
-                c.finite3(&key("translation"), *translation)?;
+                c.position3(&key("translation"), *translation)?;
                 let why = match file.is_empty() {
                     true => Some("empty path".to_string()),
                     false => not_a_file(&super::mesh_path(base_dir, file)),
@@ -620,4 +671,14 @@ pub(super) fn find_line(text: &str, key: &str) -> Option<usize> {
         }
     }
     None
+}
+
+/// The length of `v` without overflow (a plain norm of `[0, 0, 1e300]` is infinite).
+fn magnitude(v: [Real; 3]) -> Real {
+    let largest = v.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
+    if largest > 0.0 {
+        largest * (Vec3::from(v) / largest).norm()
+    } else {
+        0.0
+    }
 }

@@ -87,3 +87,30 @@ pub fn metrics_column(out: &Path, name: &str) -> Vec<f64> {
         })
         .collect()
 }
+
+/// Runs the binary with `args`, sends it SIGINT once `started` exists (within 60 s), and returns
+/// its exit code and standard error: for runs that would not end by themselves.
+pub fn interrupted_once(args: &[&str], started: &Path) -> (i32, String) {
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .args(args)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("binary runs");
+    let clock = std::time::Instant::now();
+    while !started.exists() {
+        assert!(
+            clock.elapsed().as_secs() < 60,
+            "{} never appeared",
+            started.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let sent = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(sent.success());
+    let output = child.wait_with_output().unwrap();
+    let err = String::from_utf8_lossy(&output.stderr).into_owned();
+    (output.status.code().unwrap_or(-1), err)
+}
