@@ -262,15 +262,16 @@ impl Overrides {
 }
 
 /// The scene named on the command line: a TOML file if `name` is a path that exists (a file comes
-/// first, even one named like an embedded scene: its read or parse error then says so), else the
-/// embedded scene of that name, else (no name) the default scene; with `overrides` applied and
-/// validated.
+/// first, even one named like an embedded scene: its read or parse error then says so; a folder
+/// named like one does not hide it), else the embedded scene of that name, else (no name) the
+/// default scene; with `overrides` applied and validated.
 pub fn resolve(name: Option<&str>, overrides: &Overrides) -> Result<LoadedScene, SceneError> {
     let Some(name) = name else {
         return embedded_with(DEFAULT_SCENE, overrides).ok_or_else(|| not_found(DEFAULT_SCENE))?;
     };
     let path = Path::new(name);
-    if path.exists() {
+    let embedded_folder = path.is_dir() && embedded_names().contains(&name);
+    if path.exists() && !embedded_folder {
         return load_with(path, overrides).map_err(|e| shadowing(name, e));
     }
     embedded_with(name, overrides).ok_or_else(|| not_found(name))?

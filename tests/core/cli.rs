@@ -296,6 +296,31 @@ fn force_runs_a_run_refused_by_the_step_estimate() {
     assert!(summary.contains("\"status\": \"interrupted\""), "{summary}");
 }
 
+/// A folder named like an embedded scene does not hide it (only a file does): `mkdir sphere;
+/// adaptcloth run sphere` said "sphere is a folder".
+#[test]
+fn a_folder_named_like_an_embedded_scene_does_not_hide_it() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir(dir.path().join("sphere")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_adaptcloth"))
+        .current_dir(dir.path())
+        .args([
+            "run",
+            "sphere",
+            "--duration",
+            "0.01",
+            "--quiet",
+            "--out",
+            "o",
+        ])
+        .output()
+        .expect("binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let summary = std::fs::read_to_string(dir.path().join("o/summary.json")).unwrap();
+    assert!(summary.contains("<embedded sphere>"), "{summary}");
+}
+
 #[test]
 fn run_writes_outputs_and_exits_0() {
     let dir = tempfile::tempdir().unwrap();

@@ -21,7 +21,7 @@ mod text;
 
 pub use obstacles::{obstacle_meshes, ObstacleMeshes};
 pub(crate) use picture::encode_png;
-pub use picture::{render_png, snapshot_grid, SnapshotRow, MAX_SIDE};
+pub use picture::{render_png, snapshot_grid, SnapshotRow, MAX_PIXELS, MAX_SIDE};
 
 use std::path::PathBuf;
 
@@ -77,7 +77,10 @@ pub enum RenderError {
         vertex_count: usize,
     },
     /// A picture size that cannot be drawn (zero, or above 16384 pixels a side).
-    #[error("cannot draw a {width}x{height} picture")]
+    #[error(
+        "cannot draw a {width}x{height} picture: expected sides of 1 to {MAX_SIDE} pixels and at \
+         most {MAX_PIXELS} pixels in all (4096x4096; drawing takes about 55 bytes a pixel)"
+    )]
     Size {
         /// Width (pixels).
         width: u32,

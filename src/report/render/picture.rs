@@ -35,6 +35,9 @@ const TEXT_COLOR: [u8; 3] = [20, 20, 20];
 const RULE_COLOR: [u8; 3] = [215, 215, 215];
 /// Largest picture side accepted (pixels).
 pub const MAX_SIDE: u32 = 16384;
+/// Most pixels a picture may have (4096 x 4096): drawing takes about 55 bytes a pixel (912 MB
+/// measured at 4096 x 4096), so two sides of 16384 would need some 15 GB.
+pub const MAX_PIXELS: u64 = 4096 * 4096;
 
 /// One row of a snapshot grid: a run's label and its frames at the chosen times.
 #[derive(Clone, Debug, Default)]
@@ -88,7 +91,8 @@ pub(crate) fn draw_scene(
 }
 
 fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
-    if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE {
+    let pixels = u64::from(width) * u64::from(height);
+    if width == 0 || height == 0 || width > MAX_SIDE || height > MAX_SIDE || pixels > MAX_PIXELS {
         return Err(RenderError::Size { width, height });
     }
     Ok(())
@@ -97,7 +101,8 @@ fn check_size(width: u32, height: u32) -> Result<(), RenderError> {
 /// One picture of `mesh` (the cloth, edges visible) with the obstacles, `width` x `height`
 /// pixels, framed on the mesh and the solid obstacles; written as an RGB PNG to `path`.
 ///
-/// Errors: a size of zero or above 16384 ([`RenderError::Size`]), a face index out of range
+/// Errors: a side of zero or above 16384, or more than 4096 x 4096 pixels
+/// ([`RenderError::Size`]), a face index out of range
 /// ([`RenderError::BadFace`]), the file cannot be written ([`RenderError::Io`],
 /// [`RenderError::Png`]).
 pub fn render_png(

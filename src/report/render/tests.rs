@@ -254,6 +254,11 @@ fn pictures_are_deterministic_pngs_and_bad_sizes_are_errors() {
         render_png(&cloth, &obstacles, 0, 90, &a),
         Err(RenderError::Size { .. })
     ));
+    // Each side within 16384 but 4096 x 4097 pixels in all: refused before anything is drawn.
+    assert!(matches!(
+        render_png(&cloth, &obstacles, 4096, 4097, &a),
+        Err(RenderError::Size { .. })
+    ));
     let broken = FrameMesh {
         positions: vec![[0.0; 3]],
         faces: vec![[0, 0, 3]],
