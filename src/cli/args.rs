@@ -315,10 +315,10 @@ pub struct RenderArgs {
     /// `scene.resolved.toml` the run wrote beside the frame's `frames/` folder, if any.
     #[arg(long)]
     pub scene: Option<String>,
-    /// Picture size in pixels.
+    /// Picture width in pixels (1 to 16384; at most 4096x4096 pixels in all).
     #[arg(long, default_value_t = 640, value_parser = picture_side())]
     pub width: u32,
-    /// Picture size in pixels.
+    /// Picture height in pixels (1 to 16384; at most 4096x4096 pixels in all).
     #[arg(long, default_value_t = 480, value_parser = picture_side())]
     pub height: u32,
 }
