@@ -55,9 +55,30 @@ pub fn clip(text: &str) -> Cow<'_, str> {
     }
 }
 
+/// A number as echoed in a message: as written (`0.6`, `60`) between 1e-4 and 1e9 in size, else
+/// in scientific notation (`1e300`, `1e-300`): a duration of 1e300 s was echoed as 301 digits.
+pub fn num(x: f64) -> String {
+    let size = x.abs();
+    if size == 0.0 || (1e-4..1e9).contains(&size) || !x.is_finite() {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn numbers_are_echoed_short() {
+        assert_eq!(num(0.6), "0.6");
+        assert_eq!(num(60.0), "60");
+        assert_eq!(num(1e300), "1e300");
+        assert_eq!(num(-1e-300), "-1e-300");
+        assert_eq!(num(0.0), "0");
+        assert_eq!(num(f64::NAN), "NaN");
+    }
 
     #[test]
     fn clip_keeps_short_text_and_cuts_long_text_on_a_character() {

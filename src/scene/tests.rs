@@ -308,6 +308,23 @@ fn the_resolved_scene_loads_back_to_the_same_scene_from_another_folder() {
     }
 }
 
+/// A duration too long for any frame rate is blamed on the duration, with its line, and echoed
+/// short (it named `time.frame_rate = 6e1` without a line and printed 1e300 as 301 digits).
+#[test]
+fn a_duration_too_long_is_named_and_echoed_short() {
+    let e = load_text("[time]\nduration = 1e300\n", &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains(":2: time.duration = 1e300"), "{e}");
+    assert!(e.contains("over time.duration = 1e300 s"), "{e}");
+    assert!(e.len() < 200, "{e}");
+    // A frame rate too high for the duration is the rate's fault.
+    let e = load_text("[time]\nduration = 1.0\nframe_rate = 1e9\n", &[])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains(":3: time.frame_rate = 1e9"), "{e}");
+}
+
 /// A newline in the command (an argument of `--set`) stays inside the comment: it made the rest
 /// of the argument a line of the resolved scene, which then failed to load (`[bogus]`).
 #[test]

@@ -360,15 +360,26 @@ pub(super) fn validate(
     if t.mode == super::TimeMode::Fixed {
         counts.push(("time.dt", t.dt, t.duration / t.dt, MAX_STEPS, "steps"));
     }
+    let defaults = super::TimeSpec::default();
     for (key, value, count, max, what) in counts {
         if count > max {
+            // A duration too long at the default rate or step is the duration's fault.
+            let default_rate = match key {
+                "time.frame_rate" => defaults.frame_rate,
+                "time.metrics_rate" => defaults.metrics_rate,
+                _ => 1.0 / defaults.dt,
+            };
+            let (key, value) = match t.duration * default_rate > max {
+                true => ("time.duration", t.duration),
+                false => (key, value),
+            };
             return Err(c.fail(
                 key,
                 format!("{value:e}"),
                 &format!(
                     "this run would take {count:.3e} {what} over time.duration = {} s; at most \
                      {max:e} are accepted",
-                    t.duration
+                    crate::console::num(t.duration)
                 ),
             ));
         }

@@ -117,7 +117,7 @@ impl Simulation {
                  ({cap:.3e} s for this integrator; material.alpha, material.k_b) and clamped by \
                  time.dt_min = {:e} s and time.dt_max = {:e} s, with time.dt_initial = {:e} s \
                  until the first contact",
-                t.beta,
+                crate::console::num(t.beta),
                 model.min_mass(),
                 model.max_stiffness(),
                 t.dt_min,
@@ -128,7 +128,7 @@ impl Simulation {
         Err(SetupError::TooManySteps(format!(
             "this run would take about {steps:.3e} steps of {dt:.3e} s over time.duration = {} s; \
              at most {MAX_STEPS:e} are accepted. {why}",
-            t.duration,
+            crate::console::num(t.duration),
         )))
     }
 }
