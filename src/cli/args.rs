@@ -1,6 +1,7 @@
 //! The command line's arguments (clap): one struct per command. `src/main.rs` parses them and
 //! [`super::execute`] runs the command.
 
+use crate::eval::reference::{MAX_GRID_SIDE, MAX_SAMPLES};
 use crate::report::render::MAX_SIDE;
 use clap::{Parser, Subcommand};
 use std::path::PathBuf;
@@ -114,11 +115,11 @@ pub struct ReportArgs {
 /// Options of the reference shared by `reference` and `compare`.
 #[derive(clap::Args, Clone)]
 pub struct RefOpts {
-    /// Reference grid (vertices per side).
-    #[arg(long = "ref-resolution", default_value_t = 65)]
+    /// Reference grid (vertices per side, 2 to 2000).
+    #[arg(long = "ref-resolution", default_value_t = 65, value_parser = count_in(MAX_GRID_SIDE))]
     pub ref_resolution: usize,
-    /// Grid of the floor run compared against the reference.
-    #[arg(long = "floor-resolution", default_value_t = 33)]
+    /// Grid of the floor run compared against the reference (2 to 2000, below the reference's).
+    #[arg(long = "floor-resolution", default_value_t = 33, value_parser = count_in(MAX_GRID_SIDE))]
     pub floor_resolution: usize,
     /// Dynamic step factor of the reference and floor runs ("scene" keeps the scene's).
     #[arg(long = "ref-beta", default_value = "0.01")]
@@ -130,8 +131,8 @@ pub struct RefOpts {
     /// scene's; 0 = dynamic step from the start).
     #[arg(long = "ref-dt-initial", default_value = "0")]
     pub ref_dt_initial: String,
-    /// Material-point sample grid (per side).
-    #[arg(long, default_value_t = 64)]
+    /// Material-point sample grid (points per side, 2 to 1000).
+    #[arg(long, default_value_t = 64, value_parser = count_in(MAX_SAMPLES))]
     pub samples: usize,
     /// Reference cache folder.
     #[arg(long, default_value = "out/reference-cache")]
@@ -321,6 +322,11 @@ pub struct RenderArgs {
     /// Picture height in pixels (1 to 16384; at most 4096x4096 pixels in all).
     #[arg(long, default_value_t = 480, value_parser = picture_side())]
     pub height: u32,
+}
+
+/// A grid side or sample count: 2 to `max`.
+fn count_in(max: usize) -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::<usize>::new().range(2..=max as u64)
 }
 
 /// `--width` and `--height`: 1 to [`MAX_SIDE`] pixels, the sizes a picture can be drawn at.

@@ -396,6 +396,11 @@ pub fn sample_points(loaded: &LoadedScene, n: usize) -> Result<SamplePoints, Ref
 /// Most material-point samples per side of a reference (a million points in all).
 pub const MAX_SAMPLES: usize = 1000;
 
+/// Largest reference or floor grid side (vertices per side): a grid of it holds at most
+/// [`crate::mesh::MAX_VERTICES`] vertices.
+pub const MAX_GRID_SIDE: usize = 2000;
+const _: () = assert!(MAX_GRID_SIDE * MAX_GRID_SIDE <= crate::mesh::MAX_VERTICES);
+
 /// Loads the reference of `base` from the cache, or computes it (reference and floor runs, in
 /// parallel when `jobs >= 2`) and stores it. `force` recomputes even when cached. `progress`
 /// receives one bar per run when given.
@@ -428,12 +433,12 @@ pub fn ensure_reference(
     {
         return Err(ReferenceError::Settings(format!(
             "resolution {}, floor resolution {} and samples {}: a grid may have at most {} \
-             vertices ({} per side) and the sample grid at most {MAX_SAMPLES} points per side",
+             vertices ({MAX_GRID_SIDE} per side) and the sample grid at most {MAX_SAMPLES} points \
+             per side",
             settings.resolution,
             settings.floor_resolution,
             settings.samples,
             crate::mesh::MAX_VERTICES,
-            (crate::mesh::MAX_VERTICES as f64).sqrt() as usize
         )));
     }
     if settings.beta.is_some_and(|b| !(b > 0.0 && b.is_finite())) {

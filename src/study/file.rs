@@ -31,7 +31,7 @@
 
 use super::config::{run_label, RunConfig};
 use super::StudyError;
-use crate::eval::reference::ReferenceSettings;
+use crate::eval::reference::{ReferenceSettings, MAX_GRID_SIDE, MAX_SAMPLES};
 use crate::physics::integrator_named;
 use crate::scene::{plain_types, LoadedScene, Setting};
 use crate::strategies::strategy_names;
@@ -377,15 +377,23 @@ fn scene_named(
 }
 
 fn reference_settings(r: &ReferenceToml, err: &Errors) -> Result<ReferenceSettings, StudyError> {
-    for (key, v) in [
-        ("resolution", &r.resolution),
-        ("floor", &r.floor),
-        ("samples", &r.samples),
+    for (key, v, max, what) in [
+        (
+            "resolution",
+            &r.resolution,
+            MAX_GRID_SIDE,
+            "vertices per side",
+        ),
+        ("floor", &r.floor, MAX_GRID_SIDE, "vertices per side"),
+        ("samples", &r.samples, MAX_SAMPLES, "points per side"),
     ] {
-        if *v.get_ref() < 2 {
+        if !(2..=max).contains(v.get_ref()) {
             return Err(err.spanned(
                 v,
-                format!("reference.{key} = {}: expected at least 2", v.get_ref()),
+                format!(
+                    "reference.{key} = {}: expected 2 to {max} {what}",
+                    v.get_ref()
+                ),
             ));
         }
     }

@@ -136,6 +136,8 @@ fn bad_keys_and_values_name_the_file_the_line_and_the_expectation() {
         ("scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\nsweep = { \"x.y\" = [] }\n", "s.toml:4", "at least one value"),
         ("scenes = [\"sphere\"]\n[reference]\nfloor = 1\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.floor"),
         ("scenes = [\"sphere\"]\n[reference]\nbeta = -1.0\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.beta"),
+        ("scenes = [\"sphere\"]\n[reference]\nsamples = 100000000\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.samples = 100000000: expected 2 to 1000 points per side"),
+        ("scenes = [\"sphere\"]\n[reference]\nresolution = 2001\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.resolution = 2001: expected 2 to 2000 vertices per side"),
     ("scenes = [\"sphere\"]\n[reference]\nresolution = 5\nfloor = 9\n[[runs]]\nstrategy = \"static\"\n", "s.toml:4", "expected below reference.resolution = 5"),
     // The default floor (33) above a coarser reference: the message points at the resolution.
     ("scenes = [\"sphere\"]\n[reference]\nresolution = 17\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.floor = 33"),

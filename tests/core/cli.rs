@@ -104,7 +104,7 @@ fn bad_input_exits_2_with_a_clear_message() {
                 "--out",
                 "/nonexistent/o",
             ],
-            "a grid may have at most 4000000 vertices",
+            "invalid value '100000' for '--ref-resolution <REF_RESOLUTION>': 100000 is not in 2..=2000",
         ),
         (
             vec![
@@ -114,7 +114,7 @@ fn bad_input_exits_2_with_a_clear_message() {
                 "--out",
                 "/nonexistent/o",
             ],
-            "the sample grid at most 1000 points per side",
+            "invalid value '100000000' for '--samples <SAMPLES>': 100000000 is not in 2..=1000",
         ),
         (vec!["run", "/dev/zero"], "not a regular file"),
         (vec!["study", "/dev/zero"], "not a regular file"),
