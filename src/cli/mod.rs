@@ -170,14 +170,16 @@ fn write_report_file(path: &Path, text: &str) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Checks, before a long suite runs, that its report can be written at `path` (exit 2 naming
-/// `--out` otherwise: a folder or device in the way, a missing permission): creates the parent
+/// Checks, before a long suite runs or a picture is drawn, that its file can be written at
+/// `path` (exit 2 naming `--out` otherwise: a folder or device in the way, a missing permission): creates the parent
 /// folder and writes and removes the temporary file the final write will use.
 fn check_report_path(path: &Path) -> Result<(), CliError> {
     let refuse = |why: String| CliError::Input(format!("--out {}: {why}", path.display()));
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| refuse(format!("cannot create its folder: {e}")))?;
+        std::fs::create_dir_all(dir).map_err(|e| {
+            let why = in_the_way(dir).unwrap_or_else(|| e.to_string());
+            refuse(format!("cannot create its folder: {why}"))
+        })?;
     }
     if let Ok(meta) = std::fs::metadata(path) {
         if !meta.is_file() {

@@ -107,6 +107,7 @@ pub fn render(args: RenderArgs) -> Result<(), CliError> {
         )));
     }
     let mesh = FrameMesh::read(&args.frame).map_err(|e| input(&e))?;
+    super::check_report_path(&args.out)?;
     // Without --scene, the scene the run recorded beside its frames folder.
     let recorded = args
         .frame

@@ -10,12 +10,21 @@ use std::path::{Path, PathBuf};
 /// `adaptcloth integrators`: seed 004's tables and the convergence orders, optionally written
 /// into `docs` between its markers.
 pub fn integrators(write_docs: bool, docs: &Path) -> Result<(), CliError> {
+    // The document is read before the experiments run, so a wrong path costs nothing.
+    let text = match write_docs {
+        true => Some(read_input(docs).map_err(|e| {
+            CliError::Input(format!(
+                "--docs {e} (expected the document to update; the default, \
+                 docs/integrators.md, is found from the repository's root)"
+            ))
+        })?),
+        false => None,
+    };
     let table = integrators::report();
     crate::console::stdout(format_args!("{table}"));
-    if !write_docs {
+    let Some(text) = text else {
         return Ok(());
-    }
-    let text = read_input(docs)?;
+    };
     let new = integrators::replace_generated(&text, &table).ok_or_else(|| {
         CliError::Input(format!(
             "{} lacks the markers {} ... {}",

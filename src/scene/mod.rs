@@ -619,7 +619,7 @@ fn apply_override(table: &mut toml::Table, setting: &Setting) -> Result<(), Scen
     };
     let top_keys: Vec<String> = table.keys().cloned().collect();
     let mut node: &mut toml::Value = table.get_mut(parts[0]).ok_or_else(|| unknown(top_keys))?;
-    for part in &parts[1..] {
+    for (depth, part) in parts.iter().enumerate().skip(1) {
         node = match node {
             toml::Value::Table(t) => {
                 let valid: Vec<String> = t.keys().cloned().collect();
@@ -634,7 +634,12 @@ fn apply_override(table: &mut toml::Table, setting: &Setting) -> Result<(), Scen
                 let index: usize = part.parse().map_err(|_| unknown(vec![indices.clone()]))?;
                 a.get_mut(index).ok_or_else(|| unknown(vec![indices]))?
             }
-            _ => return Err(unknown(Vec::new())),
+            _ => {
+                let value = parts[..depth].join(".");
+                return Err(unknown(vec![format!(
+                    "none ({value} is a value, not a section)"
+                )]));
+            }
         };
     }
     *node = match (&*node, value) {

@@ -60,6 +60,7 @@ fn bad_input_exits_2_with_a_clear_message() {
     let file_out = empty.to_str().unwrap();
     let docs = dir.path().join("docs");
     let docs_dir = docs.to_str().unwrap();
+    let under_file = format!("{file_out}/x.md");
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (vec!["run", "--out", file_out], "it is a file, not a folder"),
         (vec!["study", "--out", file_out], "is a file, not a folder"),
@@ -138,6 +139,19 @@ fn bad_input_exits_2_with_a_clear_message() {
         (
             vec!["frame-diff", "/dev/zero", "/dev/zero"],
             "not a regular file",
+        ),
+        // Raw system errors, or nothing to go on (the hostile sweep of 2026-11-29).
+        (
+            vec!["stability", "--quick", "--out", &under_file],
+            "cannot create its folder: it is a file, not a folder",
+        ),
+        (
+            vec!["integrators", "--write-docs", "--docs", "/nonexistent/i.md"],
+            "--docs /nonexistent/i.md",
+        ),
+        (
+            vec!["run", "--set", "cloth.resolution.x=5"],
+            "none (cloth.resolution is a value, not a section)",
         ),
         // Accepted, then diverged at the first step (the hostile sweep of 2026-11-29).
         (
@@ -364,9 +378,10 @@ fn run_writes_outputs_and_exits_0() {
         std::fs::read(again.join("frames/frame_00001.obj")).unwrap(),
         "re-running the resolved scene gives the same frames"
     );
-    // `render` finds the scene (and so the sphere) from the run's folder.
+    // `render` finds the scene (and so the sphere) from the run's folder, and creates the
+    // folder of its picture.
     let with = dir.path().join("with.png");
-    let without = dir.path().join("without.png");
+    let without = dir.path().join("new/folder/without.png");
     let frame = out.join("frames/frame_00001.obj");
     let frame = frame.to_str().unwrap();
     let (code, err) = adaptcloth(&["render", frame, "--out", without.to_str().unwrap()]);
