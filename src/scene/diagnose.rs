@@ -11,8 +11,14 @@ use super::{MotionSpec, ObstacleShape, ObstacleSpec, SceneError};
 use serde::Deserialize;
 
 /// A parser message with Rust's type names in plain words (`expected f64` becomes `expected a
-/// number`), for people who write TOML, not Rust.
+/// number`), for people who write TOML, not Rust; each of its lines clipped as echoed text is
+/// ([`crate::console::clip`]: a 100,000-character key made a 300 KB message).
 pub fn plain_types(message: &str) -> String {
+    let clipped: Vec<_> = message.lines().map(crate::console::clip).collect();
+    plain_words(&clipped.join("\n"))
+}
+
+fn plain_words(message: &str) -> String {
     const PLAIN: [(&str, &str); 9] = [
         ("expected a sequence", "expected a list [...]"),
         ("expected f64", "expected a number"),

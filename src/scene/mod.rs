@@ -18,6 +18,7 @@ mod validate;
 pub use convert::mesh_path;
 pub use diagnose::plain_types;
 pub use spec::*;
+pub(crate) use validate::not_a_file;
 pub use validate::MAX_STEPS;
 
 use crate::math::Real;

@@ -308,6 +308,18 @@ fn the_resolved_scene_loads_back_to_the_same_scene_from_another_folder() {
     }
 }
 
+/// A parser message echoes a huge key clipped (a 100,000-character key made a 300 KB message).
+#[test]
+fn a_huge_key_is_echoed_clipped() {
+    let text = format!("[cloth]\n{} = 1\n", "k".repeat(100_000));
+    let e = load_text(&text, &[]).unwrap_err().to_string();
+    assert!(
+        e.contains("unknown field") && e.contains("... (100008 characters)"),
+        "{e}"
+    );
+    assert!(e.len() < 2_000, "{} bytes", e.len());
+}
+
 /// A duration too long for any frame rate is blamed on the duration, with its line, and echoed
 /// short (it named `time.frame_rate = 6e1` without a line and printed 1e300 as 301 digits).
 #[test]

@@ -586,7 +586,7 @@ pub(super) fn validate(
 /// Why `path` cannot be read as a file, `None` when it is a regular file or a built-in one: not
 /// found (or not readable, or not built in), a folder, or a device, pipe or socket (reading one
 /// could block or never end).
-fn not_a_file(path: &Path) -> Option<String> {
+pub(crate) fn not_a_file(path: &Path) -> Option<String> {
     let shown = path.display();
     if crate::io::is_embedded_path(path) {
         let built_in = crate::io::embedded_text(path).is_some();

@@ -86,8 +86,15 @@ pub fn default_spec() -> String {
 /// integrators (none: the scene's), configuration-major. Unknown strategies and integrators,
 /// resolutions below 2 and an empty list are errors.
 pub fn parse_runs(spec: &str, integrators: &[String]) -> Result<Vec<RunTemplate>, StudyError> {
-    for i in integrators {
-        integrator_named(i).map_err(|e| StudyError::Config(e.to_string()))?;
+    let option = || format!("--integrators {}", integrators.join(","));
+    for (k, i) in integrators.iter().enumerate() {
+        integrator_named(i).map_err(|e| StudyError::Config(format!("{}: {e}", option())))?;
+        if integrators[..k].contains(i) {
+            return Err(StudyError::Config(format!(
+                "{}: integrator {i} listed twice: list it once",
+                option()
+            )));
+        }
     }
     let integrators: Vec<Option<String>> = if integrators.is_empty() {
         vec![None]
@@ -216,5 +223,18 @@ mod tests {
             assert!(parse_configs(bad, &scene(), &[]).is_err(), "{bad}");
         }
         assert!(parse_configs("static", &scene(), &["leapfrog".into()]).is_err());
+        // The integrator list's own mistakes name it.
+        let e = parse_configs("static", &scene(), &["rk4".into(), "rk4".into()]).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("--integrators rk4,rk4: integrator rk4 listed twice"),
+            "{e}"
+        );
+        let e = parse_configs("static", &scene(), &["".into(), "".into()]).unwrap_err();
+        assert!(
+            e.to_string()
+                .starts_with("--integrators ,: unknown integrator"),
+            "{e}"
+        );
     }
 }

@@ -363,8 +363,17 @@ fn scene_named(
         return Ok(p.display().to_string());
     }
     let embedded = crate::scene::embedded_names();
-    if Path::new(given).exists() || embedded.contains(&given.as_str()) {
+    if embedded.contains(&given.as_str()) && !Path::new(given).is_file() {
         return Ok(given.clone());
+    }
+    if Path::new(given).exists() {
+        return match crate::scene::not_a_file(Path::new(given)) {
+            None => Ok(given.clone()),
+            Some(why) => Err(err.spanned(
+                name,
+                format!("scenes[{index}] = \"{given}\": {why}; expected a scene file"),
+            )),
+        };
     }
     Err(err.spanned(
         name,

@@ -142,6 +142,7 @@ fn bad_keys_and_values_name_the_file_the_line_and_the_expectation() {
     // The default floor (33) above a coarser reference: the message points at the resolution.
     ("scenes = [\"sphere\"]\n[reference]\nresolution = 17\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.floor = 33"),
     ("scenes = [\"sphere\", \"round_tabel\"]\n[[runs]]\nstrategy = \"static\"\n", "s.toml:1", "scenes[1] = \"round_tabel\": no such scene file"),
+    ("scenes = [\"/\"]\n[[runs]]\nstrategy = \"static\"\n", "s.toml:1", "scenes[0] = \"/\": / is a folder; expected a scene file"),
         ("scenes = []\n[[runs]]\nstrategy = \"static\"\n", "s.toml", "scenes"),
         ("scenes = [\"sphere\"]\n", "s.toml", "runs"),
         ("scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\n[[runs]]\nstrategy = \"static\"\n", "s.toml", "same label"),
