@@ -483,7 +483,10 @@ pub fn ensure_reference(
         let simulation = Simulation::new(scene)?;
         simulation.check_step_estimate().map_err(|e| {
             ReferenceError::Settings(format!(
-                "the {what} run of {} (not covered by --force): {e}",
+                "the {what} run of {} (not covered by --force): {e} (the reference and floor \
+                 runs take time.beta, time.dt_initial and the integrator from --ref-beta, \
+                 --ref-dt-initial and --ref-integrator, or a study's [reference] beta, \
+                 dt_initial and integrator)",
                 base.source
             ))
         })?;
