@@ -131,11 +131,23 @@ impl HoleMesher {
         let mut points: Vec<Point2<Real>> = fixed.iter().map(|q| Point2::new(q.x, q.y)).collect();
         points.extend(seeds.iter().map(|q| Point2::new(q.x, q.y)));
         let n_input = points.len();
-        let mut cdt = ConstrainedDelaunayTriangulation::<Point2<Real>>::bulk_load_cdt(
+        // A border that crosses itself (a rest pattern overlapping itself, as an OBJ cloth's
+        // may) is refused: spade's panicking loader aborted the run there.
+        let mut crossing = None;
+        let mut cdt = ConstrainedDelaunayTriangulation::<Point2<Real>>::try_bulk_load_cdt(
             points,
             constraints.to_vec(),
+            |e| {
+                crossing.get_or_insert(e);
+            },
         )
         .map_err(|e| fail(format!("spade could not load the hole: {e:?}")))?;
+        if let Some([a, b]) = crossing {
+            return Err(fail(format!(
+                "the hole's border crosses itself at its edge {a}-{b} (the rest pattern overlaps \
+                 itself there)"
+            )));
+        }
         if cdt.num_vertices() != n_input {
             return Err(fail("duplicate points in the hole border".into()));
         }
@@ -479,6 +491,18 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A border that crosses itself is refused, not a panic (an OBJ cloth whose pattern
+    /// overlaps itself made spade panic under remesh).
+    #[test]
+    fn a_border_that_crosses_itself_is_refused() {
+        let fixed = [(0.0, 0.0), (1.0, 1.0), (0.0, 1.0), (1.0, 0.0)].map(|(x, y)| Vec2::new(x, y));
+        let bow_tie = [[0, 1], [1, 2], [2, 3], [3, 0]];
+        let e = HoleMesher::default()
+            .mesh(&fixed, &bow_tie, &[], &params(0.5))
+            .unwrap_err();
+        assert!(e.to_string().contains("crosses itself"), "{e}");
     }
 
     fn params(spacing: Real) -> HoleParams {

@@ -172,10 +172,10 @@ c "--out symlink to the sentinel (the user's own link: followed)" allow='.*/sent
 
 # --- Mesh obstacle files and OBJ cloths ---------------------------------------------------------
 for m in dir missing dev abs up tet nan inf huge range zero neg bigidx twovert degen nov short \
-    noface empty garbage; do
+    noface empty garbage flat; do
     c "mesh obstacle file $m" -- run "@IN@/mesh_$m.toml" --quiet
 done
-for m in tet nan range empty garbage dev; do c "obj cloth $m" -- run "@IN@/cloth_$m.toml" --quiet; done
+for m in tet nan range empty garbage dev far; do c "obj cloth $m" -- run "@IN@/cloth_$m.toml" --quiet; done
 
 # --- Scene files --------------------------------------------------------------------------------
 for f in empty comment garbage utf8 unterminated dup type_res type_size type_obst unknown \
@@ -279,6 +279,7 @@ c "render --scene nan mesh" -- render @FRAME@ --out o.png --scene "@IN@/mesh_nan
 c "render --scene huge box" -- render @FRAME@ --out o.png --scene "@IN@/box.toml"
 c "render no --out" -- render @FRAME@
 c "render ok" -- render @FRAME@ --out o.png
+c "render 16384 x 16384" -- render @FRAME@ --out o.png --width 16384 --height 16384
 
 # --- report, merge ------------------------------------------------------------------------------
 c "report no args" -- report
@@ -296,6 +297,9 @@ c "merge a label leaving runs/" setup='cp -r "$IN/cmp" p && sed -i "s|static-3-r
 c "report ok" setup='cp -r "$IN/cmp" o' -- report o
 c "report --write-docs /dev/full" setup='cp -r "$IN/cmp" o' -- report o --write-docs /dev/full
 c "report --docs-notes /dev/zero" setup='cp -r "$IN/cmp" o' -- report o --write-docs o/docs --docs-notes /dev/zero
+c "report a scene leaving docs/" setup='cp -r "$IN/cmp" o && sed -i "s|\"scene\": \"sphere\"|\"scene\": \"../../../../../../sentinel/esc\"|" o/comparison.json' -- report o --write-docs o/docs
+c "report two comparisons of one scene" setup='mkdir o && cp -r "$IN/cmp" o/a && cp -r "$IN/cmp" o/b' -- report o/a o/b --write-docs o/docs
+c "report --docs-notes without --write-docs" setup='cp -r "$IN/cmp" o' -- report o --docs-notes "@IN@/base.toml"
 c "merge no args" -- merge
 c "merge no --out" -- merge "@IN@/cmp"
 c "merge the same dir twice" -- merge "@IN@/cmp" "@IN@/cmp" --out o
@@ -316,3 +320,13 @@ c "frame-diff different meshes" -- frame-diff @FRAME@ "@IN@/tet.obj"
 c "frame-diff nan" -- frame-diff "@IN@/nan.obj" "@IN@/nan.obj"
 c "frame-diff missing" -- frame-diff "@IN@/nope.obj" @FRAME@
 c "integrators --write-docs /dev/full" -- integrators --write-docs /dev/full
+c "integrators --docs without --write-docs" -- integrators --docs o.md
+c "run an embedded scene beside a folder of its name" setup='mkdir sphere' -- run sphere --duration 0.01 --quiet --out o
+c "run --set cloth.resolution.x (below a value)" -- run "${D[@]}" --set cloth.resolution.x=5
+c "mesh obstacle scale 1e300" -- run "@IN@/mesh_tet.toml" --quiet --set obstacles.0.scale=1e300
+c "mesh obstacle translation 1e300" -- run "@IN@/mesh_tet.toml" --quiet --set 'obstacles.0.translation=[1e300, 0.0, 0.0]'
+c "gravity 1e300" -- run "${D[@]}" --set 'forces.g=[0.0, 0.0, -1e300]'
+c "start speed above max_speed" -- run "${D[@]}" --set 'cloth.velocity=[0.0, 0.0, 1e10]'
+c "duration 1e300" -- run "${D[@]}" --set time.duration=1e300
+c "key of 100000 characters" setup='python3 -c "print(\"[cloth]\\n\" + \"k\" * 100000 + \" = 1\")" > s.toml' -- run s.toml --quiet
+c "compare --integrators rk4,rk4" -- compare --integrators rk4,rk4 --runs static@3 --out o

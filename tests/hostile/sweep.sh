@@ -100,8 +100,9 @@ printf 'v 0 0\nf 1 1 1\n' >"$IN/short.obj"
 printf 'v 1 2 3\n' >"$IN/noface.obj"
 : >"$IN/empty.obj"
 head -c 4096 /dev/urandom >"$IN/garbage.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n' >"$IN/flat.obj"
 mkdir -p "$IN/dir.obj" "$IN/dir.toml"
-for m in tet nan inf huge range zero neg bigidx twovert degen nov short noface empty garbage; do
+for m in tet nan inf huge range zero neg bigidx twovert degen nov short noface empty garbage flat; do
     mesh_scene "mesh_$m" "$m.obj"
 done
 mesh_scene mesh_dir dir.obj
@@ -109,7 +110,8 @@ mesh_scene mesh_missing gone.obj
 mesh_scene mesh_dev /dev/zero
 mesh_scene mesh_abs /etc/passwd
 mesh_scene mesh_up ../../../../../../etc/hostname
-for m in tet nan range empty garbage; do
+printf 'v 0 0 0\nv 1e300 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 2/2 3/3\n' >"$IN/far.obj"
+for m in tet nan range empty garbage far; do
     printf '%s[cloth]\nshape = "obj"\nmesh = "%s.obj"\n' "$base" "$m" >"$IN/cloth_$m.toml"
 done
 printf '%s[cloth]\nshape = "obj"\nmesh = "/dev/zero"\n' "$base" >"$IN/cloth_dev.toml"
