@@ -82,7 +82,7 @@ pub(super) fn check(c: &Checker, prefix: &str, m: &MotionSpec) -> Result<(), Sce
                 }
             }
             for (k, p) in positions.iter().enumerate() {
-                c.finite3(&format!("{}[{k}]", key("positions")), *p)?;
+                c.position3(&format!("{}[{k}]", key("positions")), *p)?;
             }
             if !rotations.is_empty() && rotations.len() != times.len() {
                 return Err(c.fail(
@@ -95,9 +95,9 @@ pub(super) fn check(c: &Checker, prefix: &str, m: &MotionSpec) -> Result<(), Sce
                 ));
             }
             for (k, r) in rotations.iter().enumerate() {
-                c.finite3(&format!("{}[{k}]", key("rotations")), *r)?;
+                c.rotation3(&format!("{}[{k}]", key("rotations")), *r)?;
             }
-            c.finite3(&key("pivot"), *pivot)
+            c.position3(&key("pivot"), *pivot)
         }
     }
 }

@@ -516,6 +516,19 @@ fn bad_motions_are_rejected_with_key_line_and_expectation() {
             ":9",
             "finite",
         ),
+        // Finite but overflowing: the rotation's angle, the obstacle's place.
+        (
+            "kind = \"keyframes\"\ntimes = [0]\npositions = [[0,0,0]]\nrotations = [[0,0,1e160]]\n",
+            "obstacles.0.motion.rotations[0]",
+            ":9",
+            "within ±1e6 rad",
+        ),
+        (
+            "kind = \"keyframes\"\ntimes = [0]\npositions = [[1e300,0,0]]\n",
+            "obstacles.0.motion.positions[0]",
+            ":8",
+            "within ±1e6 m",
+        ),
         (
             "kind = \"linear\"\nvelocity = [nan, 0, 0]\n",
             "obstacles.0.motion.velocity",

@@ -23,6 +23,10 @@ const MAX_LENGTH: Real = 1e6;
 /// Largest cloth thickness for self-collision (m): every pair closer than it is tested each step.
 const MAX_THICKNESS: Real = 0.05;
 
+/// Largest rotation-vector component accepted (rad): far beyond any turn a keyframe needs, far
+/// below where the angle's square overflows.
+const MAX_ROTATION: Real = 1e6;
+
 /// Largest gravity accepted (m/s², about 1000 g): a cloth under more passes `time.max_speed`'s
 /// default of 100 m/s within 10 ms, and at 1e300 m/s² the first step overflowed.
 const MAX_GRAVITY: Real = 1e4;
@@ -159,6 +163,20 @@ impl Checker<'_> {
                 key,
                 format!("{v:?}"),
                 &format!("expected three finite coordinates within ±{MAX_COORDINATE:e} m"),
+            ))
+        }
+    }
+
+    /// A rotation vector (rad): three finite components within [`MAX_ROTATION`] (a keyframe
+    /// rotation of 1e160 rad overflowed its angle and the obstacle vanished).
+    pub(super) fn rotation3(&self, key: &str, v: [Real; 3]) -> Result<(), SceneError> {
+        if v.iter().all(|c| c.abs() <= MAX_ROTATION) {
+            Ok(())
+        } else {
+            Err(self.fail(
+                key,
+                format!("{v:?}"),
+                &format!("expected three finite components within ±{MAX_ROTATION:e} rad"),
             ))
         }
     }
