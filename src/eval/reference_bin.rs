@@ -88,7 +88,9 @@ pub fn read_bin(path: &Path) -> Result<(ReferenceHeader, Trajectory), ReferenceE
 }
 
 /// Checks that the counts of a `reference.bin` header agree with each other (the sample grid
-/// with `settings.samples`) and that its times and rest points are finite; the reason otherwise.
+/// with `settings.samples`), that its times and rest points are finite, its times increasing
+/// and its floor errors not negative (`e_rms` and `e_final` always measured; a NaN tracked-point
+/// error or Hausdorff distance is one that could not be); the reason otherwise.
 fn check_header(h: &ReferenceHeader) -> Result<(), String> {
     let s = &h.samples;
     let n = h.settings.samples;
@@ -119,6 +121,22 @@ fn check_header(h: &ReferenceHeader) -> Result<(), String> {
         .all(|x| x.is_finite())
     {
         return Err("a rest point or frame time is not finite".into());
+    }
+    // An edited header: the errors against it would be measured at the wrong times or over
+    // nothing, and the floor would say nothing true.
+    if h.times.is_empty() || h.times.windows(2).any(|w| w[0] >= w[1]) {
+        return Err("the frame times are not one or more increasing times".into());
+    }
+    let f = &h.floor;
+    let measured = [f.e_rms, f.e_final].iter().all(|e| e.is_finite());
+    if !measured
+        || [f.e_rms, f.e_final, f.tracked_err, f.hausdorff]
+            .iter()
+            .any(|e| *e < 0.0 || e.is_infinite())
+    {
+        return Err(
+            "a floor error is negative or infinite, or its e_rms or e_final missing".into(),
+        );
     }
     Ok(())
 }

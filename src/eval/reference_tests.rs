@@ -271,6 +271,14 @@ fn a_corrupted_reference_cache_entry_is_refused() {
     refused(&path, "grid + 1");
     rewrite(&|h| h.times[1] = f64::NAN);
     refused(&path, "a NaN time");
+    // Edited so that the data would be misread: times reversed, a negative floor (the hostile
+    // sweep of 2026-11-29 had them used without a word).
+    rewrite(&|h| h.times.reverse());
+    assert!(refused(&path, "reversed times").contains("increasing times"));
+    rewrite(&|h| h.floor.e_rms = -1.0);
+    assert!(refused(&path, "a negative floor").contains("floor error"));
+    rewrite(&|h| h.floor.e_rms = f64::NAN);
+    assert!(refused(&path, "no floor e_rms").contains("floor error"));
 }
 
 /// The keys of the shipped scenes without moving obstacles, as computed before obstacles could
