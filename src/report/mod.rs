@@ -88,6 +88,31 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
     );
     let _ = writeln!(md, "## Runs\n\n{}", tables::table(c));
     let _ = writeln!(md, "Table: [comparison.csv](comparison.csv); manifest: [comparison.json](comparison.json); each run's outputs in `runs/<label>/`.\n");
+    // A run in the table whose folder is gone (a copied or pruned comparison) has no curves.
+    let without: Vec<&str> = c
+        .rows
+        .iter()
+        .filter(|r| {
+            r.completed()
+                && !out
+                    .join("runs")
+                    .join(&r.label)
+                    .join("metrics.csv")
+                    .is_file()
+        })
+        .map(|r| r.label.as_str())
+        .collect();
+    if !without.is_empty() {
+        let list = without.join(", ");
+        crate::note!(
+            "warning: {}: no runs/<label>/metrics.csv for {list}: in the tables, not in the plots",
+            out.display()
+        );
+        let _ = writeln!(
+            md,
+            "Runs in the table without their folder's metrics.csv, left out of the plots: {list}.\n"
+        );
+    }
     if !m.skipped.is_empty() {
         let _ = writeln!(md, "Missing runs:\n");
         for k in &m.skipped {

@@ -189,6 +189,14 @@ fn report_on_a_study_folder_rewrites_the_same_pages() {
     assert!(!copy.join("report.md").exists(), "{err}");
     let (code, err) = adaptcloth(&["report", folder_s, copy_s]);
     assert_eq!(code, 0, "{err}");
+    // The copy has no runs/ folder: its runs are in its tables, not in its plots, and it says so.
+    assert!(err.contains("in the tables, not in the plots"), "{err}");
+    let copied = std::fs::read_to_string(copy.join("report.md")).unwrap();
+    assert!(copied.contains("left out of the plots"), "{copied}");
+    assert!(
+        read("report.md") == report,
+        "the original's report.md changed"
+    );
 
     // The scene names the plots' folder: one that leaves the docs folder is refused (it wrote
     // DIR/results/../../../x).
