@@ -146,17 +146,43 @@ pub(crate) fn drivers(
     cloth: &Cloth,
 ) -> Result<Vec<(usize, Vec3)>, SetupError> {
     let spec = &loaded.scene.cloth;
-    let mut out = Vec::new();
-    for (i, (p, vel)) in spec.pinned.iter().zip(&spec.pinned_velocity).enumerate() {
-        let vel = Vec3::from(*vel);
-        if vel == Vec3::zeros() {
-            continue;
+    // Each pinned vertex's velocity and the first entry that set it.
+    let mut by_vertex: std::collections::BTreeMap<usize, (usize, Vec3)> = Default::default();
+    for (i, p) in spec.pinned.iter().enumerate() {
+        let vel = spec
+            .pinned_velocity
+            .get(i)
+            .map_or(Vec3::zeros(), |v| Vec3::from(*v));
+        let Some(v) = nearest_vertex(&cloth.mesh, Vec2::new(p[0], p[1])) else {
+            if vel == Vec3::zeros() {
+                continue; // a still pin off the pattern is the pinning's to report
+            }
+            return Err(off_pattern(loaded, &format!("cloth.pinned[{i}]"), *p));
+        };
+        match by_vertex.get(&(v.0 as usize)) {
+            Some(&(j, other)) if other != vel => {
+                return Err(SetupError::Scene(SceneError::Invalid {
+                    subject: loaded.subject(
+                        &format!("cloth.pinned[{i}]"),
+                        &format!("[{}, {}]", p[0], p[1]),
+                    ),
+                    expected: format!(
+                        "expected a point of its own: it pins the vertex cloth.pinned[{j}] pins, with \
+                         another velocity ({:?} against {:?} m/s)",
+                        vel.as_slice(),
+                        other.as_slice()
+                    ),
+                }))
+            }
+            Some(_) => {}
+            None => {
+                by_vertex.insert(v.0 as usize, (i, vel));
+            }
         }
-        let v = nearest_vertex(&cloth.mesh, Vec2::new(p[0], p[1]))
-            .ok_or_else(|| off_pattern(loaded, &format!("cloth.pinned[{i}]"), *p))?;
-        out.push((v.0 as usize, vel));
     }
-    out.sort_by_key(|d| d.0);
-    out.dedup_by_key(|d| d.0);
-    Ok(out)
+    Ok(by_vertex
+        .into_iter()
+        .filter(|(_, (_, vel))| *vel != Vec3::zeros())
+        .map(|(slot, (_, vel))| (slot, vel))
+        .collect())
 }

@@ -163,6 +163,22 @@ fn bad_input_exits_2_with_a_clear_message() {
             "cloth.pinned_velocity.0",
         ),
         (
+            vec!["run", "--set", "adaptivity.max_depth=4294967296"],
+            "expected a whole number from 0 to 4294967295",
+        ),
+        // Two pins on one vertex with different velocities: one of them won silently.
+        (
+            vec![
+                "run",
+                "hanging",
+                "--set",
+                "cloth.pinned=[[0.5, 1.0], [0.5, 1.0]]",
+                "--set",
+                "cloth.pinned_velocity=[[0, 0, 0], [0, 0, 1]]",
+            ],
+            "expected a point of its own: it pins the vertex cloth.pinned[0] pins",
+        ),
+        (
             vec!["run", "--set", "forces.g=[0, 0, 1e300]"],
             "expected an acceleration of at most 1e4 m/s²",
         ),
