@@ -113,6 +113,28 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
             "Runs in the table without their folder's metrics.csv, left out of the plots: {list}.\n"
         );
     }
+    // Folders under runs/ that no row names: an earlier study's, written into the same --out.
+    let mut stale: Vec<String> = std::fs::read_dir(out.join("runs"))
+        .into_iter()
+        .flatten()
+        .flatten()
+        .filter(|e| e.path().is_dir())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|name| !c.rows.iter().any(|r| &r.label == name))
+        .collect();
+    stale.sort();
+    if !stale.is_empty() {
+        let list = stale.join(", ");
+        crate::note!(
+            "note: {}: runs/ also holds {list}, not in this comparison (an earlier one's?): left \
+             as they are, in no table or plot",
+            out.display()
+        );
+        let _ = writeln!(
+            md,
+            "Folders under `runs/` that are not runs of this comparison (left as they are): {list}.\n"
+        );
+    }
     if !m.skipped.is_empty() {
         let _ = writeln!(md, "Missing runs:\n");
         for k in &m.skipped {

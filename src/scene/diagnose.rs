@@ -25,7 +25,10 @@ fn plain_words(message: &str) -> String {
         ("expected f32", "expected a number"),
         ("expected usize", "expected a whole number, 0 or more"),
         ("expected u64", "expected a whole number, 0 or more"),
-        ("expected u32", "expected a whole number from 0 to 4294967295"),
+        (
+            "expected u32",
+            "expected a whole number from 0 to 4294967295",
+        ),
         ("expected i64", "expected a whole number"),
         ("expected i32", "expected a whole number"),
         ("expected a boolean", "expected true or false"),

@@ -217,6 +217,14 @@ fn report_on_a_study_folder_rewrites_the_same_pages() {
     assert_eq!(code, 2, "{err}");
     assert!(err.contains("is not a plain folder name"), "{err}");
     assert!(!escaped.exists() && !docs.join("results.md").exists());
+
+    // A run folder no row names (an earlier study's in the same --out) is said, not listed.
+    std::fs::create_dir_all(folder.join("runs/old-run")).unwrap();
+    let (code, err) = adaptcloth(&["report", folder_s]);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("runs/ also holds old-run"), "{err}");
+    let again = String::from_utf8(read("report.md")).unwrap();
+    assert!(again.contains("not runs of this comparison (left as they are): old-run"));
 }
 
 /// A study-wide `h_min` reaches every run, its static baseline included, which ignores it; a
