@@ -242,7 +242,7 @@ pub(super) fn validate(
     }
     c.position3("cloth.center", cloth.center)?;
     c.finite3("cloth.rotation_deg", cloth.rotation_deg)?;
-    c.speed3("cloth.velocity", cloth.velocity, scene.time.max_speed)?;
+    c.finite3("cloth.velocity", cloth.velocity)?;
     // The vertex count the cloth starts with (an OBJ cloth's is checked when it is read).
     let start = match cloth.shape {
         ClothShape::Grid => {
@@ -415,6 +415,8 @@ pub(super) fn validate(
             "expected at most one velocity per pinned point",
         ));
     }
+    // After time.max_speed's own check.
+    c.speed3("cloth.velocity", scene.cloth.velocity, scene.time.max_speed)?;
     for (k, &v) in scene.cloth.pinned_velocity.iter().enumerate() {
         c.speed3(
             &format!("cloth.pinned_velocity.{k}"),

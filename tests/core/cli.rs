@@ -162,6 +162,11 @@ fn bad_input_exits_2_with_a_clear_message() {
             vec!["run", "hanging", "--set", "cloth.pinned_velocity=[[0, 0, 1e300]]"],
             "cloth.pinned_velocity.0",
         ),
+        // The speed bound's own mistake is said before the speeds measured against it.
+        (
+            vec!["run", "--set", "time.max_speed=nan"],
+            "--set time.max_speed=nan: expected a finite value > 0",
+        ),
         (
             vec!["run", "--set", "adaptivity.max_depth=4294967296"],
             "expected a whole number from 0 to 4294967295",

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The hostile-input sweep (issue 15): runs the release binary over about 330 malformed or extreme
+# The hostile-input sweep (issue 15): runs the release binary over about 530 malformed or extreme
 # inputs and classifies what each one does. Usage, from the repository root:
 #
 #   cargo build --release
