@@ -446,6 +446,19 @@ if [ -z "$ONLY" ]; then
         echo "  names the folder. A spin axis of length overflowing or underflowing (\`[1e308; 3]\`) was"
         echo "  called \"zero\" without its line; the scene check now names its key and line."
         echo
+        echo "## Found by two reviews of 2026-11-29 (a new user's and a hostile tester's), and fixed"
+        echo
+        echo "- escape: \`report --write-docs\` wrote a comparison's plots to \`DIR/results/<scene>/\`"
+        echo "  with the scene read from its \`comparison.json\` (\`../../x\` left DIR); two comparisons"
+        echo "  of one scene overwrote each other's plots. Both refused (tests/core/study_cli.rs)."
+        echo "- panic: remesh on an OBJ cloth whose rest pattern overlaps itself (spade's loader)."
+        echo "- accepted, then diverged or wrong: start or pinned speeds above \`time.max_speed\`,"
+        echo "  gravity of 1e300, centres, translations and OBJ vertices at 1e300 m, a keyframe rotation"
+        echo "  of 1e160 rad (the obstacle vanished and the run exited 0), two pins on one vertex with"
+        echo "  different velocities, an obstacle mesh of flat faces only, edited reference caches."
+        echo "- silent: a newline in an argument broke the resolved scene's rerun; runs without their"
+        echo "  folder dropped from plots; an interrupted reference started its floor run anyway."
+        echo
         echo "## Every case"
         echo
         echo "<details><summary>$(($(wc -l <"$T") - 1)) cases: outcome, seconds, command, first line of stderr</summary>"
