@@ -308,6 +308,18 @@ fn the_resolved_scene_loads_back_to_the_same_scene_from_another_folder() {
     }
 }
 
+/// A sub-table of an obstacle written after another section (`[obstacles.motion]` after
+/// `[adaptivity]`) is still found at its line.
+#[test]
+fn a_motion_table_after_another_section_is_found_at_its_line() {
+    let text = "[[obstacles]]\nkind = \"sphere\"\ncenter = [0.0, 0.0, 0.0]\nradius = 0.2\n\
+                [adaptivity]\nl_min = 0.1\n\
+                [obstacles.motion]\nkind = \"keyframes\"\ntimes = [0.0, 1.0]\n\
+                positions = [[0,0,0],[0,1e308,0]]\n";
+    let e = load_text(text, &[]).unwrap_err().to_string();
+    assert!(e.contains(":10: obstacles.0.motion.positions[1]"), "{e}");
+}
+
 /// A parser message echoes a huge key clipped (a 100,000-character key made a 300 KB message).
 #[test]
 fn a_huge_key_is_echoed_clipped() {

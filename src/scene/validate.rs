@@ -688,10 +688,12 @@ pub(super) fn find_line(text: &str, key: &str) -> Option<usize> {
         }
         if let Some(h) = l.strip_prefix('[').and_then(|r| r.split(']').next()) {
             current = h.trim().to_string();
-            // A sub-table of the array's element keeps the element's index.
-            if !current.starts_with(&format!("{array}.")) {
-                current_index = None;
-            }
+            // A sub-table of the array belongs to its last element so far, wherever it stands
+            // (an `[obstacles.motion]` after `[adaptivity]` is still the last obstacle's).
+            current_index = match current.starts_with(&format!("{array}.")) {
+                true => seen_array.checked_sub(1),
+                false => None,
+            };
             continue;
         }
         let Some((k, _)) = l.split_once('=') else {
