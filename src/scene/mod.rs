@@ -10,6 +10,7 @@
 mod adaptivity;
 mod convert;
 mod diagnose;
+mod key_lines;
 mod motion;
 mod sections;
 mod spec;
@@ -70,7 +71,7 @@ impl LoadedScene {
     /// `FILE:LINE: key = value` (the key's line in the scene file: `cloth.pinned[0]`,
     /// `tracked.0.rest`).
     pub fn subject(&self, key: &str, value: &str) -> String {
-        validate::subject(&self.text, &self.source, &self.options, key, value)
+        key_lines::subject(&self.text, &self.source, &self.options, key, value)
     }
 
     /// Refuses `folder`, the name of an output folder made from the scene's `name`, when it is

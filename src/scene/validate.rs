@@ -2,8 +2,8 @@
 //! expected.
 
 use super::adaptivity::{sizing_options, strategy_options};
+use super::key_lines::subject;
 use super::{ClothShape, ObstacleShape, Scene, SceneError};
-use crate::console::clip;
 use crate::math::{Real, Vec3, MAX_COORDINATE};
 use std::path::Path;
 
@@ -44,35 +44,6 @@ pub const MAX_STEPS: Real = 1e8;
 const MAX_CG_ITERATIONS: usize = 10_000;
 /// Most relaxation passes per step (`integrator.relaxation_passes`; default 4).
 const MAX_RELAXATION_PASSES: usize = 1_000;
-
-/// Where `key`'s value came from and what it is: the setting that set it (its place names the key
-/// and the value: `--set key=value`); for a list element `key[i]` or a key `key.sub` set as a
-/// whole, that setting then `key[i] = value`; else the file, the key's line and `key = value`;
-/// both clipped ([`clip`]).
-pub(super) fn subject(
-    text: &str,
-    source: &str,
-    options: &[(String, String)],
-    key: &str,
-    value: &str,
-) -> String {
-    // Set whole: `key` is `k[i]` or `k.sub`.
-    let within = |k: &str| {
-        key.strip_prefix(k)
-            .is_some_and(|r| r.starts_with(['[', '.']))
-    };
-    let value = clip(value);
-    match options.iter().rev().find(|(k, _)| k == key || within(k)) {
-        Some((k, place)) if k == key => clip(place).into_owned(),
-        Some((_, place)) => format!("{}: {key} = {value}", clip(place)),
-        None => {
-            let line = find_line(text, key)
-                .map(|l| format!(":{l}"))
-                .unwrap_or_default();
-            format!("{source}{line}: {key} = {value}")
-        }
-    }
-}
 
 /// Collects the first out-of-range value of a scene.
 pub(super) struct Checker<'a> {
@@ -156,27 +127,31 @@ impl Checker<'_> {
 
     /// A position (m): three finite coordinates within [`MAX_COORDINATE`] of the origin.
     pub(super) fn position3(&self, key: &str, v: [Real; 3]) -> Result<(), SceneError> {
-        if v.iter().all(|c| c.abs() <= MAX_COORDINATE) {
-            Ok(())
-        } else {
-            Err(self.fail(
-                key,
-                format!("{v:?}"),
-                &format!("expected three finite coordinates within ±{MAX_COORDINATE:e} m"),
-            ))
-        }
+        self.within3(key, v, MAX_COORDINATE, "coordinates", "m")
     }
 
     /// A rotation vector (rad): three finite components within [`MAX_ROTATION`] (a keyframe
     /// rotation of 1e160 rad overflowed its angle and the obstacle vanished).
     pub(super) fn rotation3(&self, key: &str, v: [Real; 3]) -> Result<(), SceneError> {
-        if v.iter().all(|c| c.abs() <= MAX_ROTATION) {
+        self.within3(key, v, MAX_ROTATION, "components", "rad")
+    }
+
+    /// Three finite `what` of `v` within `±max` (`unit`).
+    fn within3(
+        &self,
+        key: &str,
+        v: [Real; 3],
+        max: Real,
+        what: &str,
+        unit: &str,
+    ) -> Result<(), SceneError> {
+        if v.iter().all(|c| c.abs() <= max) {
             Ok(())
         } else {
             Err(self.fail(
                 key,
                 format!("{v:?}"),
-                &format!("expected three finite components within ±{MAX_ROTATION:e} rad"),
+                &format!("expected three finite {what} within ±{max:e} {unit}"),
             ))
         }
     }
@@ -651,59 +626,6 @@ fn vertex_count(
             MAX_VERTICES * BYTES_PER_VERTEX / 1_000_000_000
         ),
     ))
-}
-
-/// The 1-based line of `key` in the scene text: `section.key` under `[section]`, `obstacles.N.key`
-/// under the N-th `[[obstacles]]`, `obstacles.N.sub.key` under the `[obstacles.sub]` that follows
-/// it, `section.key[..]` for list elements. `None` when the key is not written in the file (a
-/// default, or set by `--set`).
-pub(super) fn find_line(text: &str, key: &str) -> Option<usize> {
-    let key = key.split('[').next()?;
-    let parts: Vec<&str> = key.split('.').collect();
-    let (section, index, name) = match parts.as_slice() {
-        [name] => (String::new(), None, *name),
-        [section, name] => (section.to_string(), None, *name),
-        [section, index, name] => (section.to_string(), index.parse::<usize>().ok(), *name),
-        [section, index, sub, name] => (
-            format!("{section}.{sub}"),
-            index.parse::<usize>().ok(),
-            *name,
-        ),
-        _ => return None,
-    };
-    let array = parts[0];
-    let mut current = String::new();
-    let mut seen_array = 0usize;
-    let mut current_index = None;
-    for (n, line) in text.lines().enumerate() {
-        let l = line.trim();
-        if let Some(h) = l.strip_prefix("[[").and_then(|r| r.split("]]").next()) {
-            current = h.trim().to_string();
-            current_index = None;
-            if current == array {
-                current_index = Some(seen_array);
-                seen_array += 1;
-            }
-            continue;
-        }
-        if let Some(h) = l.strip_prefix('[').and_then(|r| r.split(']').next()) {
-            current = h.trim().to_string();
-            // A sub-table of the array belongs to its last element so far, wherever it stands
-            // (an `[obstacles.motion]` after `[adaptivity]` is still the last obstacle's).
-            current_index = match current.starts_with(&format!("{array}.")) {
-                true => seen_array.checked_sub(1),
-                false => None,
-            };
-            continue;
-        }
-        let Some((k, _)) = l.split_once('=') else {
-            continue;
-        };
-        if current == section && k.trim() == name && (index.is_none() || index == current_index) {
-            return Some(n + 1);
-        }
-    }
-    None
 }
 
 /// The length of `v` without overflow (a plain norm of `[0, 0, 1e300]` is infinite).
