@@ -9,6 +9,11 @@ pub type Vec2 = nalgebra::Vector2<Real>;
 /// A 3x3 matrix.
 pub type Mat3 = nalgebra::Matrix3<Real>;
 
+/// The largest absolute value of `values` (0 for none): the size of a coordinate list.
+pub fn largest_abs(values: &[Real]) -> Real {
+    values.iter().fold(0.0, |m: Real, x| m.max(x.abs()))
+}
+
 /// Largest coordinate (m) accepted for what input places: the cloth's centre and OBJ vertices,
 /// obstacles' centres, translations and mesh vertices. A scene a million metres across is no
 /// cloth scene; at 1e300 m the first step overflows and the run ended as diverged.

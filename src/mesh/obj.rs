@@ -136,7 +136,7 @@ fn far_coordinate<'a>(
     rows: impl Iterator<Item = &'a [Real]>,
 ) -> Option<ObjError> {
     rows.enumerate().find_map(|(k, row)| {
-        let value = row.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
+        let value = crate::math::largest_abs(row);
         (value > MAX_COORDINATE).then(|| ObjError::OutOfRange {
             path: path.to_string(),
             what,

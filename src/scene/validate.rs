@@ -630,7 +630,7 @@ fn vertex_count(
 
 /// The length of `v` without overflow (a plain norm of `[0, 0, 1e300]` is infinite).
 fn magnitude(v: [Real; 3]) -> Real {
-    let largest = v.iter().fold(0.0, |m: Real, x| m.max(x.abs()));
+    let largest = crate::math::largest_abs(&v);
     if largest > 0.0 {
         largest * (Vec3::from(v) / largest).norm()
     } else {
