@@ -58,6 +58,7 @@ fn self_contact(c: &mut Criterion) {
             .map(|((x, v), &w)| if w > 0.0 { x + (v + g * DT) * DT } else { *x })
             .collect();
         let faces: Vec<[usize; 3]> = cloth.mesh.face_vertex_slots().collect();
+        let rest = cloth.mesh.rest_slots().to_vec();
         let (mu, thickness) = (sim.scene.material.mu, sim.scene.collision.thickness);
         let mut kept = SelfContact::new(thickness);
         let pass = |contact: &mut SelfContact| {
@@ -65,6 +66,7 @@ fn self_contact(c: &mut Criterion) {
             let stats = contact.respond(
                 0,
                 faces.iter().copied(),
+                &rest,
                 &x_start,
                 &mut x,
                 Some(&mut v),

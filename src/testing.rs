@@ -2,7 +2,7 @@
 
 use crate::cloth::Cloth;
 use crate::collision::{ContactParams, Obstacle, Obstacles};
-use crate::math::{Real, Vec3};
+use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{union_jack, Mesh};
 use crate::physics::{ForceModel, Forces, Material};
 use rand::{Rng, SeedableRng};
@@ -147,4 +147,37 @@ pub fn in_pool<R: Send>(threads: usize, work: impl FnOnce() -> R + Send) -> R {
         .build()
         .expect("thread pool")
         .install(work)
+}
+
+/// A rest pattern (m, by slot) for loose `faces` at world positions `x` (m): each piece of faces
+/// joined by shared vertices keeps its world `(x, y)`, moved 100 m along `x` per piece, so
+/// vertices of different pieces are far apart in the pattern (two layers, not one piece).
+pub fn pieces_pattern(x: &[Vec3], faces: &[[usize; 3]]) -> Vec<Vec2> {
+    let mut piece: Vec<usize> = (0..x.len()).collect();
+    fn root(piece: &mut [usize], mut i: usize) -> usize {
+        while piece[i] != i {
+            piece[i] = piece[piece[i]];
+            i = piece[i];
+        }
+        i
+    }
+    for f in faces {
+        for k in 1..3 {
+            let (a, b) = (root(&mut piece, f[0]), root(&mut piece, f[k]));
+            piece[a.max(b)] = a.min(b);
+        }
+    }
+    let mut roots: Vec<usize> = (0..x.len()).map(|i| root(&mut piece, i)).collect();
+    let index = roots.clone();
+    roots.sort_unstable();
+    roots.dedup();
+    x.iter()
+        .zip(index)
+        .map(|(p, r)| {
+            Vec2::new(
+                p.x + 100.0 * roots.binary_search(&r).unwrap_or(0) as Real,
+                p.y,
+            )
+        })
+        .collect()
 }

@@ -268,6 +268,12 @@ impl Mesh {
         self.rest[v.0 as usize]
     }
 
+    /// The rest coordinates (m) of every vertex slot, free slots included (their values are
+    /// meaningless).
+    pub fn rest_slots(&self) -> &[Vec2] {
+        &self.rest
+    }
+
     /// True when the vertex is pinned (never moves).
     pub fn is_pinned(&self, v: VertexId) -> bool {
         self.pinned[v.0 as usize]

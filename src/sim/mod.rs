@@ -440,6 +440,7 @@ impl Simulation {
         let stats = pass.respond(
             cloth.mesh.version(),
             cloth.mesh.face_vertex_slots(),
+            cloth.mesh.rest_slots(),
             x_start,
             &mut cloth.x,
             velocities.then_some(&mut cloth.v[..]),

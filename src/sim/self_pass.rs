@@ -11,7 +11,7 @@
 //!   stay, a vertex left inside an obstacle's margin is pushed out by the next step.
 
 use crate::collision::{SelfContact, SelfContactStats};
-use crate::math::{Real, Vec3};
+use crate::math::{Real, Vec2, Vec3};
 
 /// Factor on the inverse mass of a held vertex in the self pass: it takes a thousandth of the
 /// share of a correction a free vertex of the same mass takes (finite, so a pair held on both
@@ -78,6 +78,7 @@ impl SelfPass {
         &mut self,
         version: u64,
         faces: impl Iterator<Item = [usize; 3]>,
+        rest: &[Vec2],
         x_start: &[Vec3],
         x: &mut [Vec3],
         mut v: Option<&mut [Vec3]>,
@@ -106,6 +107,7 @@ impl SelfPass {
             let stats = self.contact.respond(
                 version,
                 faces,
+                rest,
                 x_start,
                 x,
                 v.as_deref_mut(),
@@ -142,6 +144,7 @@ impl SelfPass {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::testing::pieces_pattern;
 
     /// A small triangle (slots 0-2) falling from height `from` to `to` (m) over a large one
     /// (slots 3-5) at height `below`: the faces, start and end positions.
@@ -187,6 +190,7 @@ mod tests {
             let stats = pass.respond(
                 0,
                 faces.iter().copied(),
+                &pieces_pattern(&x_start, &faces),
                 &x_start,
                 &mut x,
                 Some(&mut v),
@@ -245,6 +249,7 @@ mod tests {
         let stats = pass.respond(
             0,
             faces.iter().copied(),
+            &pieces_pattern(&x_start, &faces),
             &x_start,
             &mut x,
             Some(&mut v),

@@ -6,7 +6,10 @@
 //!    step's start gets an impulse along the line between its closest points, so its relative
 //!    normal motion over the step is at least `REPULSION (h - d) / dt` (an approaching pair
 //!    stops, a pair too close is eased apart over a few steps), with Coulomb friction `mu` on
-//!    the tangential relative motion.
+//!    the tangential relative motion. A pair already closer than `h` in the rest pattern is one
+//!    piece of cloth, held by its springs, not two layers: it gets no repulsion (with `h` above
+//!    a triangle's height, the cloth's own neighbours were pushed apart at every step, which
+//!    stretched a flat cloth and added energy to it).
 //! 2. **Swept test**: over the straight motion of the step, every pair that becomes coplanar
 //!    while its closest points meet (within `CCD_TOLERANCE h`), or ends that close, is a
 //!    crossing; an impulse along the normal at that moment makes the pair end at least
@@ -40,7 +43,7 @@ mod zones;
 
 use super::apply_friction;
 use super::shape::{to_glam, to_na};
-use crate::math::{Real, Vec3};
+use crate::math::{Real, Vec2, Vec3};
 use geometry::{closest_between_segments, closest_on_triangle, coplanar_times, Stencil};
 use tree::{bounds_of, overlap, Bounds, FaceTree};
 use zones::Zones;
@@ -122,6 +125,11 @@ pub struct SelfContact {
     pairs: Vec<Pair>,
     /// Each pair's distance (m) at `x_listed`.
     gaps: Vec<Real>,
+    /// Each pair's side: true when its elements are at least the thickness apart in the rest
+    /// pattern (only those get a proximity repulsion).
+    apart: Vec<bool>,
+    /// The rest pattern of mesh version `version`, by slot (m, in the plane `z = 0`).
+    rest: Vec<Vec3>,
     /// The positions the pairs were listed at (m): the end of that step.
     x_listed: Vec<Vec3>,
     /// Each vertex's farthest distance from `x_listed` in this step (m), by slot.
@@ -149,6 +157,8 @@ impl SelfContact {
             tree: FaceTree::default(),
             pairs: Vec::new(),
             gaps: Vec::new(),
+            apart: Vec::new(),
+            rest: Vec::new(),
             x_listed: Vec::new(),
             reach: Vec::new(),
             max_reach: 0.0,
@@ -162,7 +172,8 @@ impl SelfContact {
     }
 
     /// The self-contact pass of one step of `dt` (s): `faces` are the live faces (vertex slots)
-    /// of mesh version `version` (listed again only when it changed), `x_start` the positions
+    /// of mesh version `version` and `rest` its rest pattern by slot (m; both read only when the
+    /// version changed), `x_start` the positions
     /// at the step's start (m, free of crossings), `x` and `v` the positions (m) and velocities
     /// (m/s) at its end, changed in place; vertices of zero inverse mass are never moved; `mu`
     /// is the cloth's friction coefficient. Without `v`, positions only: a correction of
@@ -173,6 +184,7 @@ impl SelfContact {
         &mut self,
         version: u64,
         faces: impl Iterator<Item = [usize; 3]>,
+        rest: &[Vec2],
         x_start: &[Vec3],
         x: &mut [Vec3],
         v: Option<&mut [Vec3]>,
@@ -182,6 +194,9 @@ impl SelfContact {
     ) -> SelfContactStats {
         if self.version != Some(version) {
             self.tree.set_faces(faces);
+            self.rest.clear();
+            self.rest
+                .extend(rest.iter().map(|r| Vec3::new(r.x, r.y, 0.0)));
             self.version = Some(version);
         }
         let mut stats = SelfContactStats::default();
@@ -195,7 +210,7 @@ impl SelfContact {
         };
         // 1. Proximity at the step's start.
         self.list_pairs(motion.x_start, motion.x);
-        self.select_near(h);
+        self.select_near(h, true);
         for &j in &self.near {
             let (pair, gap) = (self.pairs[j as usize], self.gaps[j as usize]);
             if gap - self.reach_of(pair) < h {
@@ -206,7 +221,7 @@ impl SelfContact {
         let tolerance = CCD_TOLERANCE * h;
         for _ in 0..CCD_ROUNDS {
             self.list_pairs(motion.x_start, motion.x);
-            self.select_near(tolerance);
+            self.select_near(tolerance, false);
             let mut found = 0;
             for &j in &self.near {
                 let (pair, gap) = (self.pairs[j as usize], self.gaps[j as usize]);
@@ -226,7 +241,7 @@ impl SelfContact {
         self.zones.reset(motion.x.len());
         for _ in 0..ZONE_ROUNDS {
             self.list_pairs(motion.x_start, motion.x);
-            self.select_near(tolerance);
+            self.select_near(tolerance, false);
             let mut found = false;
             for &j in &self.near {
                 let (pair, gap) = (self.pairs[j as usize], self.gaps[j as usize]);
@@ -294,6 +309,13 @@ impl SelfContact {
                 let s = stencil_at(pair, y);
                 s.combine(y).norm()
             }));
+            let (h, rest) = (self.thickness, &self.rest);
+            self.apart.clear();
+            self.apart.extend(
+                self.pairs
+                    .iter()
+                    .map(|&pair| stencil_at(pair, rest).combine(rest).norm() >= h),
+            );
             let gaps = &self.gaps;
             self.by_gap.clear();
             self.by_gap.extend(0..self.pairs.len() as u32);
@@ -311,15 +333,20 @@ impl SelfContact {
     }
 
     /// Puts in `self.near`, in list order, the listed pairs that can come closer than `limit`
-    /// (m) in this step: `gap - reach_of(pair) < limit` needs `gap < limit + 2 max_reach`, so
-    /// only a prefix of `by_gap` is read (a flat cloth's neighbours, listed but apart by about an
-    /// edge, are never visited while the list is kept).
-    fn select_near(&mut self, limit: Real) {
+    /// (m) in this step, only those apart in the rest pattern when `only_apart`:
+    /// `gap - reach_of(pair) < limit` needs `gap < limit + 2 max_reach`, so only a prefix of
+    /// `by_gap` is read (a flat cloth's neighbours, listed but apart by about an edge, are never
+    /// visited while the list is kept).
+    fn select_near(&mut self, limit: Real, only_apart: bool) {
         let cutoff = limit + 2.0 * self.max_reach;
-        let gaps = &self.gaps;
+        let (gaps, apart) = (&self.gaps, &self.apart);
         let count = self.by_gap.partition_point(|&j| gaps[j as usize] < cutoff);
         self.near.clear();
-        self.near.extend_from_slice(&self.by_gap[..count]);
+        self.near.extend(
+            self.by_gap[..count]
+                .iter()
+                .filter(|&&j| !only_apart || apart[j as usize]),
+        );
         self.near.sort_unstable();
     }
 

@@ -2,6 +2,7 @@ use super::geometry::{closest_between_segments, closest_on_triangle, coplanar_ti
 use super::tree::FaceTree;
 use super::*;
 use crate::collision::self_intersections;
+use crate::testing::pieces_pattern;
 use proptest::prelude::*;
 
 /// A flat square sheet of `n x n` vertices, side `size` (m), at height `z` (m), shifted by
@@ -67,6 +68,7 @@ fn step(
     let stats = contact.respond(
         0,
         faces.iter().copied(),
+        &pieces_pattern(x, faces),
         x,
         &mut x_end,
         Some(&mut v_end),
@@ -135,6 +137,48 @@ fn a_pair_closer_than_the_thickness_stops_approaching() {
 }
 
 #[test]
+fn a_cloth_thicker_than_its_triangles_is_not_its_own_contact() {
+    // A flat 9 x 9 sheet of side 0.5 m: its right triangles are 4.4 cm high over their long
+    // side, so at a thickness of 5 cm each vertex is closer than the thickness to faces it is
+    // not a corner of. Those pairs are one piece of cloth in the rest pattern: no repulsion, and
+    // the sheet ends where its own motion takes it (it was pushed apart before).
+    let sheet = sheet(9, 0.5, 0.0, (0.0, 0.0), 0);
+    let v: Vec<Vec3> = (0..sheet.x.len())
+        .map(|i| Vec3::new(0.0, 0.0, 0.01 * (i % 3) as Real))
+        .collect();
+    let dt = 1e-3;
+    let free: Vec<Vec3> = sheet.x.iter().zip(&v).map(|(p, u)| p + u * dt).collect();
+    let (x_end, _, stats) = step(&sheet.x, &v, &sheet.faces, 0.05, dt);
+    assert_eq!(stats.proximities, 0, "{stats:?}");
+    assert_eq!(x_end, free);
+    // The same sheet folded onto a copy of itself 1 cm above (another piece of the pattern):
+    // the layers are closer than the thickness, and pushed apart.
+    let upper = sheet_above(&sheet, 0.01);
+    let (x, faces) = (upper.0, upper.1);
+    let v = vec![Vec3::zeros(); x.len()];
+    let (_, _, stats) = step(&x, &v, &faces, 0.05, dt);
+    assert!(stats.proximities > 0, "{stats:?}");
+}
+
+/// `sheet` and a copy of it `gap` (m) above, slots after the sheet's: positions and faces.
+fn sheet_above(sheet: &Sheet, gap: Real) -> (Vec<Vec3>, Vec<[usize; 3]>) {
+    let n = sheet.x.len();
+    let x = sheet
+        .x
+        .iter()
+        .copied()
+        .chain(sheet.x.iter().map(|p| p + Vec3::new(0.0, 0.0, gap)))
+        .collect();
+    let faces = sheet
+        .faces
+        .iter()
+        .copied()
+        .chain(sheet.faces.iter().map(|f| f.map(|i| i + n)))
+        .collect();
+    (x, faces)
+}
+
+#[test]
 fn pinned_vertices_never_move() {
     let (x, v, faces) = two_sheets(0.01, 5.0);
     let dt = 0.01;
@@ -146,6 +190,7 @@ fn pinned_vertices_never_move() {
     contact.respond(
         0,
         faces.iter().copied(),
+        &pieces_pattern(&x, &faces),
         &x,
         &mut x_end,
         Some(&mut v_end),
@@ -330,6 +375,7 @@ fn a_point_ending_in_a_face_is_sent_back_to_its_side() {
         let stats = contact.respond(
             0,
             faces.iter().copied(),
+            &pieces_pattern(&x, &faces),
             &x,
             &mut x_end,
             Some(&mut v),
