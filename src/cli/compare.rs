@@ -348,9 +348,11 @@ fn run_plans(
         let stopped = interrupt.load(Ordering::SeqCst);
         if stopped {
             let completed = comparison.rows.iter().filter(|r| r.completed()).count();
+            // The shard's runs: those started (rows) and those not (listed as skipped).
+            let planned = runs + comparison.manifest.skipped.len();
             crate::note!(
-                "{}: interrupted after {secs:.1} s: {completed} of {runs} run(s) completed, the \
-                 others are listed as not run in report.md",
+                "{}: interrupted after {secs:.1} s: {completed} of {planned} run(s) completed, \
+                 the others are listed as not run in report.md",
                 clip(scene)
             );
         } else {
@@ -413,8 +415,26 @@ fn refused_by(command: &'static str) -> impl Fn(StudyError) -> CliError {
 /// `adaptcloth merge`: shard folders into one comparison and its report.
 pub fn merge(args: MergeArgs) -> Result<(), CliError> {
     not_in_the_way("--out", &args.out)?;
-    let comparison = study::merge(&args.dirs, &args.out).map_err(refused_by("merge"))?;
+    let interrupt = super::interrupt_flag();
+    let existed = args.out.exists();
+    super::output_folder(&args.out)?;
+    let comparison = study::merge(&args.dirs, &args.out, Some(&interrupt)).map_err(|e| {
+        // A refused merge writes nothing: not even the folder the check above made.
+        if !existed && !matches!(e, StudyError::Interrupted(_)) {
+            let _ = std::fs::remove_dir(args.out.join("runs"));
+            let _ = std::fs::remove_dir(&args.out);
+        }
+        refused_by("merge")(e)
+    })?;
     crate::report::write_report(&args.out, &comparison)?;
+    if interrupt.load(std::sync::atomic::Ordering::SeqCst) {
+        return Err(CliError::Interrupted(format!(
+            "merge interrupted while writing the report: the comparison in {} is complete; \
+             `adaptcloth report {}` writes its pages again",
+            args.out.display(),
+            args.out.display()
+        )));
+    }
     crate::note!(
         "merged {} run(s) from {} folder(s); report: {}",
         comparison.rows.len(),
@@ -448,8 +468,15 @@ pub fn report(args: ReportArgs) -> Result<(), CliError> {
         }
         done.push((dir.clone(), comparison));
     }
+    let interrupt = super::interrupt_flag();
     for (dir, comparison) in &done {
         crate::report::write_report(dir, comparison)?;
+        if interrupt.load(std::sync::atomic::Ordering::SeqCst) {
+            return Err(CliError::Interrupted(format!(
+                "report interrupted: the pages of {} may be part rewritten; run the report again",
+                dir.display()
+            )));
+        }
         crate::note!("{}", dir.join("report.md").display());
     }
     write_docs(args.docs.write_docs, &done, &args.docs_command, notes)

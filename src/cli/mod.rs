@@ -62,6 +62,7 @@ impl From<StudyError> for CliError {
             }
             StudyError::Reference(r) => r.into(),
             StudyError::Io { .. } => CliError::Failed(e.to_string()),
+            StudyError::Interrupted(_) => CliError::Interrupted(e.to_string()),
         }
     }
 }

@@ -22,4 +22,4 @@ pub mod reference;
 
 pub use frame_diff::{frame_distance, FrameDiffError};
 pub use metrics::{hausdorff, pareto_front, static_time_at_error, ErrorReport};
-pub use reference::{ensure_reference, Reference, ReferenceSettings};
+pub use reference::{ensure_reference, fnv1a, Reference, ReferenceSettings, FNV_OFFSET};

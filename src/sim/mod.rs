@@ -10,7 +10,8 @@ mod setup;
 mod step_size;
 
 pub use run::{
-    labelled_bar, run, this_command, write_mesh_frame, RunOptions, RunStatus, RunSummary,
+    labelled_bar, rerun_line, run, this_command, write_mesh_frame, RunOptions, RunStatus,
+    RunSummary,
 };
 pub use sample::{AdaptJumps, SamplePoints, Sampler, Trajectory};
 pub use setup::{build_cloth, SetupError};

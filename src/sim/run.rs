@@ -54,10 +54,16 @@ fn rerun_command(opts: &RunOptions) -> String {
     if opts.resolved_scene.is_none() {
         return String::new();
     }
+    rerun_line(&opts.out_dir)
+}
+
+/// The line that runs the `scene.resolved.toml` of the run folder `out_dir` again with the
+/// running program, into `out_dir` with `-rerun` added (absolute paths).
+pub fn rerun_line(out_dir: &Path) -> String {
     let program = std::env::current_exe()
         .map(|p| shell_word(&p))
         .unwrap_or_else(|_| "adaptcloth".to_string());
-    let out = std::path::absolute(&opts.out_dir).unwrap_or_else(|_| opts.out_dir.clone());
+    let out = std::path::absolute(out_dir).unwrap_or_else(|_| out_dir.to_path_buf());
     let mut again = out.clone().into_os_string();
     again.push("-rerun");
     format!(

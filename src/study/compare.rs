@@ -104,6 +104,11 @@ pub fn compare(base: &LoadedScene, opts: &CompareOptions) -> Result<Comparison, 
         duration: base.scene.time.duration,
         beta: base.scene.time.beta,
         configs: labels,
+        settings: opts
+            .configs
+            .iter()
+            .map(|c| c.fingerprint(base))
+            .collect::<Result<_, _>>()?,
         skipped: not_started(&mine, &rows),
         shard: opts.shard,
         jobs,

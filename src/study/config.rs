@@ -4,7 +4,7 @@
 use super::file::RunTemplate;
 use super::StudyError;
 use crate::physics::integrator_named;
-use crate::scene::{LoadedScene, Setting};
+use crate::scene::{LoadedScene, Setting, TimeMode};
 use crate::strategies::strategy_names;
 
 /// Static grids of the default comparison (vertices per side).
@@ -68,6 +68,71 @@ impl RunConfig {
         crate::scene::with_overrides(base, &set)
             .and_then(|l| l.check_run().map(|()| l))
             .map_err(|e| StudyError::Config(format!("{e} (run {})", self.label())))
+    }
+
+    /// The fingerprint of this run's settings: FNV-1a (hex) of its scene on `base` after every
+    /// override, as TOML (mesh paths as written, so shards run in other folders agree).
+    pub fn fingerprint(&self, base: &LoadedScene) -> Result<String, StudyError> {
+        let scene = self.scene(base)?.scene;
+        let text = toml::to_string(&scene).unwrap_or_else(|e| format!("not serializable: {e}"));
+        let hash = crate::eval::fnv1a(crate::eval::FNV_OFFSET, text.as_bytes());
+        Ok(format!("{hash:016x}"))
+    }
+
+    /// Fails when a key of this run's own `set` or `sweep` is one its scene `run` (this run's,
+    /// [`RunConfig::scene`]) does not read, so runs swept over it would be the same run under
+    /// different labels: `time.dt` on the dynamic step, `time.beta` and the dynamic step's
+    /// clamps on a fixed step, `[adaptivity]` keys on a strategy that never edits the mesh; and
+    /// `time.duration`, which is the study's (errors are measured against the reference over
+    /// one span of time).
+    pub fn check_keys_read(&self, run: &LoadedScene) -> Result<(), StudyError> {
+        let time = &run.scene.time;
+        let adapts = crate::strategies::strategy_named(&self.strategy).is_ok_and(|s| s.edits_mesh);
+        for setting in &self.set {
+            let key = setting.arg.split('=').next().unwrap_or_default().trim();
+            let from = || setting.from.clone().unwrap_or_else(|| self.from.clone());
+            if key == "time.duration" {
+                return Err(StudyError::Config(format!(
+                    "{}: time.duration cannot be set per run: a run's duration is the study's \
+                     (its error is measured against the reference over the same span of time); \
+                     set `duration` at the top of the study file",
+                    from()
+                )));
+            }
+            let why = match key {
+                "time.dt" if time.mode == TimeMode::Dynamic => Some(
+                    "the run takes the dynamic step (time.mode = \"dynamic\"), which never reads \
+                     time.dt: give the entry `dt = ...` for a fixed step, or set time.beta"
+                        .to_string(),
+                ),
+                "time.beta" | "time.dt_initial" | "time.dt_min" | "time.dt_max"
+                    if time.mode == TimeMode::Fixed =>
+                {
+                    Some(format!(
+                        "the run takes the fixed step time.dt = {} s, and {key} sets only the \
+                         dynamic step: give the entry `beta = ...` for the dynamic step, or set \
+                         time.dt",
+                        time.dt
+                    ))
+                }
+                k if k.starts_with("adaptivity.") && k != "adaptivity.strategy" && !adapts => {
+                    Some(format!(
+                        "strategy `{}` never adapts the mesh and reads no [adaptivity] key",
+                        self.strategy
+                    ))
+                }
+                _ => None,
+            };
+            if let Some(why) = why {
+                return Err(StudyError::Config(format!(
+                    "{}: {key} is not read by run {}: {why}; runs differing only by it would be \
+                     the same run under different labels",
+                    from(),
+                    self.label()
+                )));
+            }
+        }
+        Ok(())
     }
 }
 
@@ -159,6 +224,10 @@ pub fn configs_for(
                 first.from,
                 if c.from.starts_with("--runs") {
                     ": list it once"
+                } else if c.base != first.base && c.base != c.strategy {
+                    // Two labels that become one folder name (`a/b` and `a\\b` are both `a_b`).
+                    ": their labels become the same folder name; give one of the two entries \
+                     another `label`"
                 } else {
                     ": give one of the two entries a `label` (the label's first part)"
                 }

@@ -53,6 +53,9 @@ pub enum StudyError {
     /// Comparison folders cannot be merged (bad input).
     #[error("merge: {0}")]
     Merge(String),
+    /// Stopped by Ctrl-C before its outputs were complete (what was written is said).
+    #[error("{0}")]
+    Interrupted(String),
     /// A scene of the study is invalid (bad input).
     #[error(transparent)]
     Scene(#[from] crate::scene::SceneError),

@@ -58,9 +58,16 @@ pub fn plan(
         let configs = configs_for(&study.runs, &loaded)?;
         let mut small_steps = Vec::new();
         for c in &configs {
-            let Ok(simulation) = Simulation::new(&c.scene(&loaded)?) else {
-                continue; // it fails on its own, as a row of the comparison
-            };
+            // A run whose settings make a scene that cannot be set up (a swept cloth size that
+            // leaves a tracked point off the cloth) is refused here, before any run starts.
+            let run = c.scene(&loaded)?;
+            c.check_keys_read(&run)?;
+            let simulation = Simulation::new(&run).map_err(|e| {
+                StudyError::Config(format!(
+                    "run {}: its settings make a scene that cannot be set up: {e}",
+                    c.label()
+                ))
+            })?;
             if !force {
                 check_steps(&simulation, c)?;
             }

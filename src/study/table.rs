@@ -283,6 +283,11 @@ pub struct Manifest {
     pub beta: f64,
     /// Every configuration of the sweep (all shards), by label, in order.
     pub configs: Vec<String>,
+    /// Each configuration's settings fingerprint, in `configs`' order
+    /// ([`super::RunConfig::fingerprint`]): `merge` refuses shards whose runs of one label differ.
+    /// Empty in a comparison written before they were kept.
+    #[serde(default)]
+    pub settings: Vec<String>,
     /// Configurations left out (by a merge: no shard ran them).
     pub skipped: Vec<Skipped>,
     /// The shard this folder holds (`None`: all, or merged).
@@ -405,6 +410,7 @@ pub(crate) mod tests {
             duration: 0.6,
             beta: 1e-3,
             configs: Vec::new(),
+            settings: Vec::new(),
             skipped: Vec::new(),
             shard: None,
             jobs: 1,

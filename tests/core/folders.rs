@@ -121,6 +121,11 @@ fn unusable_folders_and_files_are_refused_naming_the_option() {
             vec!["run", "--out", "/proc"],
             "--out /proc: cannot write in the output folder".into(),
         ),
+        // Regression (study review 2026-11-29, finding 9): exit 1 without naming the option.
+        (
+            vec!["merge", file, "--out", "/proc/x"],
+            "--out /proc/x: cannot create the output folder".into(),
+        ),
         (
             vec!["reference", "--cache", file],
             format!("--cache {file}: cannot create the cache folder: it is a file, not a folder"),

@@ -274,6 +274,51 @@ fn a_study_wide_h_min_leaves_its_static_baseline_alone() {
     assert_eq!(table.matches(",completed,").count(), 2, "{table}");
 }
 
+/// Regression (study review 2026-11-29, findings 3-5): a run's own `set` or `sweep` of a key
+/// the run does not read made identical runs under different labels (`time.dt` on the dynamic
+/// step, `time.beta` on a fixed one, `h_min` on the static strategy), a run's own duration was
+/// measured against the reference over a shorter span, and a swept value that makes a scene
+/// that cannot be set up failed at its turn with exit 0. All refused, naming the study line and
+/// the run, before anything runs (no reference computed).
+#[test]
+fn a_run_entry_must_set_only_what_its_run_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    for (runs, expected) in [
+        (
+            "strategy = \"static\"\nsweep = { \"time.dt\" = [0.002, 0.001] }",
+            "s.toml:11: runs[0].sweep.\"time.dt\" = 0.002: time.dt is not read by run \
+             static-5-rk4-dt=0.002: the run takes the dynamic step",
+        ),
+        (
+            "strategy = \"static\"\ndt = 0.002\nsweep = { \"time.beta\" = [0.001, 0.01] }",
+            "time.beta is not read by run static-5-rk4-beta=0.001: the run takes the fixed step",
+        ),
+        (
+            "strategy = \"static\"\nset = { \"adaptivity.h_min\" = 0.03 }",
+            "adaptivity.h_min is not read by run static-5-rk4: strategy `static` never adapts",
+        ),
+        (
+            "strategy = \"bisect48\"\nsweep = { \"time.duration\" = [0.005, 0.01] }",
+            "time.duration cannot be set per run",
+        ),
+        (
+            "strategy = \"static\"\nsweep = { \"cloth.size\" = [[1.0, 1.0], [0.2, 0.2]] }",
+            "run static-5-rk4-size=[0.2_ 0.2]: its settings make a scene that cannot be set up: \
+             <embedded sphere>",
+        ),
+    ] {
+        let args = small_study(
+            dir.path(),
+            "duration = 0.01",
+            &format!("[[runs]]\nresolution = 5\n{runs}\n"),
+        );
+        let (code, err) = adaptcloth(&strs(&args));
+        assert_eq!(code, 2, "{runs}: {err}");
+        assert!(err.contains(expected), "{runs}: {err}");
+        assert!(!dir.path().join("cache").exists(), "{runs}: nothing runs");
+    }
+}
+
 /// Writes `DIR/s.toml`, a study of the sphere with a 9x9 reference and a 5x5 floor, its
 /// top-level keys `top` (`duration = ...` first) and its `[[runs]]` entries `runs`; the
 /// arguments that run it quietly into `DIR/out`, its references cached in `DIR/cache`.
