@@ -189,9 +189,44 @@ pub fn read_numeric_csv(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f6
     Ok((header, rows))
 }
 
+/// Why the numeric CSV at `path` cannot be plotted: unreadable, a column of `columns` missing
+/// from its header, a line with another number of cells than the header, or a cell that is
+/// neither empty nor a number; `None` when it can.
+pub fn numeric_csv_problem(path: &Path, columns: &[&str]) -> Option<String> {
+    let text = match read_text(path) {
+        Ok(text) => text,
+        Err(e) => return Some(e.to_string()),
+    };
+    let mut lines = text.lines().enumerate();
+    let header: Vec<&str> = lines
+        .next()
+        .map_or(Vec::new(), |(_, l)| l.split(',').collect());
+    if let Some(c) = columns.iter().find(|c| !header.contains(c)) {
+        return Some(format!("line 1: no column `{c}` in its header"));
+    }
+    for (k, line) in lines.filter(|(_, l)| !l.trim().is_empty()) {
+        let cells: Vec<&str> = line.split(',').collect();
+        if cells.len() != header.len() {
+            return Some(format!(
+                "line {}: {} cells, expected {} as in its header",
+                k + 1,
+                cells.len(),
+                header.len()
+            ));
+        }
+        if let Some(bad) = cells
+            .iter()
+            .find(|c| !c.is_empty() && c.parse::<f64>().is_err())
+        {
+            return Some(format!("line {}: `{bad}` is not a number", k + 1));
+        }
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
-    use super::{file_safe, temp_path, write_atomic, MetricsWriter};
+    use super::{file_safe, numeric_csv_problem, temp_path, write_atomic, MetricsWriter};
     use crate::testing::error_within_seconds;
     use std::path::Path;
 
@@ -206,6 +241,26 @@ mod tests {
     /// A pipe left where a run writes (the metrics table, an atomic write's temporary file) is
     /// refused with a message; opening it waited for a reader for ever, through Ctrl-C (the
     /// hostile sweep's `o/metrics.csv.partial` FIFO case, killed after ignoring SIGINT).
+    #[test]
+    fn numeric_csv_problems_name_the_line() {
+        let d = tempfile::tempdir().unwrap();
+        let p = d.path().join("e.csv");
+        for (text, problem) in [
+            ("t,e\n0.1,2e-3\n0.2,\n", None),
+            ("garbage\n", Some("line 1: no column `t` in its header")),
+            ("t,e\n0.1,2e-3\n0.2\n", Some("line 3: 1 cells, expected 2")),
+            ("t,e\n0.1,x\n", Some("line 2: `x` is not a number")),
+        ] {
+            std::fs::write(&p, text).unwrap();
+            let got = numeric_csv_problem(&p, &["t", "e"]);
+            match problem {
+                None => assert_eq!(got, None, "{text}"),
+                Some(want) => assert!(got.as_deref().unwrap_or("").starts_with(want), "{got:?}"),
+            }
+        }
+        assert!(numeric_csv_problem(&d.path().join("none.csv"), &["t"]).is_some());
+    }
+
     #[test]
     fn a_pipe_where_a_run_writes_is_refused_not_waited_on() {
         let dir = tempfile::tempdir().unwrap();

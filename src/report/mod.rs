@@ -102,6 +102,34 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
         })
         .map(|r| r.label.as_str())
         .collect();
+    // Files present that do not read as the plots need (edited or truncated) leave their run
+    // out of those plots too.
+    for r in c.rows.iter().filter(|r| r.completed()) {
+        let dir = out.join("runs").join(&r.label);
+        let files = [
+            ("metrics.csv", &["t", "vertices"][..], true),
+            ("error.csv", &["t", "e"][..], r.e_rms.is_finite()),
+        ];
+        for (name, columns, expected) in files {
+            let path = dir.join(name);
+            if !expected || !path.is_file() {
+                continue;
+            }
+            if let Some(why) = crate::io::numeric_csv_problem(&path, columns) {
+                crate::note!(
+                    "warning: {}: {why}: run {} left out of the plots that read it",
+                    path.display(),
+                    r.label
+                );
+                let _ = writeln!(
+                    md,
+                    "`runs/{}/{name}` does not read ({why}): the run is left out of the plots \
+                     that read it.\n",
+                    r.label
+                );
+            }
+        }
+    }
     if !without.is_empty() {
         let list = without.join(", ");
         crate::note!(

@@ -225,6 +225,22 @@ fn report_on_a_study_folder_rewrites_the_same_pages() {
     assert!(err.contains("runs/ also holds old-run"), "{err}");
     let again = String::from_utf8(read("report.md")).unwrap();
     assert!(again.contains("not runs of this comparison (left as they are): old-run"));
+
+    // Regression (study review 2026-11-29, finding 8): a garbled error.csv or metrics.csv left
+    // its run out of the plots with no word.
+    for name in ["error.csv", "metrics.csv"] {
+        let file = folder.join("runs/static-5-rk4").join(name);
+        let kept = std::fs::read(&file).unwrap();
+        std::fs::write(&file, "garbage\n").unwrap();
+        let (code, err) = adaptcloth(&["report", folder_s]);
+        assert_eq!(code, 0, "{err}");
+        assert!(
+            err.contains(&format!("{}: line 1: no column `t`", file.display()))
+                && err.contains("run static-5-rk4 left out of the plots"),
+            "{name}: {err}"
+        );
+        std::fs::write(&file, kept).unwrap();
+    }
 }
 
 /// A study-wide `h_min` reaches every run, its static baseline included, which ignores it; a
