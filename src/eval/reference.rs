@@ -125,6 +125,11 @@ pub struct ReferenceHeader {
     pub floor: Floor,
     /// The normalised physics parameters that were hashed (for people reading the cache).
     pub physics: serde_json::Value,
+    /// FNV-1a (16 hex digits) of the data after the header, set when written: data edited or
+    /// corrupted into other finite numbers is found on reading. Empty in entries written before
+    /// it was kept (2026-11-29), which are read unchecked rather than computed again.
+    #[serde(default)]
+    pub data_hash: String,
 }
 
 /// A loaded or computed reference.
@@ -579,8 +584,9 @@ pub fn ensure_reference(
             steps: floor.steps,
         },
         physics: physics_json(&reference_scene.scene),
+        data_hash: String::new(), // set by `write_bin`
     };
-    write_bin(&bin, &header, &trajectory)?;
+    let header = write_bin(&bin, &header, &trajectory)?;
     Ok(Reference {
         header,
         trajectory,

@@ -10,31 +10,43 @@ use std::path::Path;
 /// The first bytes of every `reference.bin`.
 pub(super) const MAGIC: &[u8; 8] = b"ACREF001";
 
-/// Writes `reference.bin` atomically.
+/// Writes `reference.bin` atomically; returns the header as written (`data_hash` set).
 pub fn write_bin(
     path: &Path,
     header: &ReferenceHeader,
     t: &Trajectory,
-) -> Result<(), ReferenceError> {
-    let json = serde_json::to_vec(header).map_err(|e| ReferenceError::Malformed {
+) -> Result<ReferenceHeader, ReferenceError> {
+    let mut data = Vec::with_capacity(12 * (t.positions.len() + t.final_vertices.len()));
+    for p in t.positions.iter().chain(&t.final_vertices) {
+        for c in p {
+            data.extend_from_slice(&c.to_le_bytes());
+        }
+    }
+    let header = ReferenceHeader {
+        data_hash: data_hash(&data),
+        ..header.clone()
+    };
+    let json = serde_json::to_vec(&header).map_err(|e| ReferenceError::Malformed {
         path: path.display().to_string(),
         why: e.to_string(),
     })?;
-    let mut bytes =
-        Vec::with_capacity(16 + json.len() + 12 * (t.positions.len() + t.final_vertices.len()));
+    let mut bytes = Vec::with_capacity(12 + json.len() + data.len());
     bytes.extend_from_slice(MAGIC);
     bytes.extend_from_slice(&(json.len() as u32).to_le_bytes());
     bytes.extend_from_slice(&json);
-    for p in t.positions.iter().chain(&t.final_vertices) {
-        for c in p {
-            bytes.extend_from_slice(&c.to_le_bytes());
-        }
-    }
-    crate::io::write_atomic(path, &bytes).map_err(io_err(path))
+    bytes.extend_from_slice(&data);
+    crate::io::write_atomic(path, &bytes).map_err(io_err(path))?;
+    Ok(header)
+}
+
+/// The checksum of a file's data: FNV-1a, 16 hex digits.
+fn data_hash(data: &[u8]) -> String {
+    format!("{:016x}", super::fnv1a(super::FNV_OFFSET, data))
 }
 
 /// Reads `reference.bin`: [`ReferenceError::Malformed`] when its header's counts disagree with
-/// each other or with the data's size, or a position, rest point or time is not finite.
+/// each other or with the data's size, its data does not match its checksum, or a position,
+/// rest point or time is not finite.
 pub fn read_bin(path: &Path) -> Result<(ReferenceHeader, Trajectory), ReferenceError> {
     let malformed = |why: &str| ReferenceError::Malformed {
         path: path.display().to_string(),
@@ -72,6 +84,11 @@ pub fn read_bin(path: &Path) -> Result<(ReferenceHeader, Trajectory), ReferenceE
             "position value {k} is {}, expected a finite number",
             floats[k]
         )));
+    }
+    if !header.data_hash.is_empty() && data_hash(body) != header.data_hash {
+        return Err(malformed(
+            "its data does not match the checksum in its header (edited or corrupted)",
+        ));
     }
     let triples: Vec<[f32; 3]> = floats.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
     let (positions, final_vertices) = triples.split_at(frames * points);

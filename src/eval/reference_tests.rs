@@ -137,6 +137,7 @@ fn header_of(
             steps: 6,
         },
         physics: serde_json::json!({"a": 1}),
+        data_hash: String::new(),
     }
 }
 
@@ -169,10 +170,28 @@ fn bin_round_trip() {
         (0..6).map(|i| [i as f32, 0.5, -1.25 * i as f32]).collect(),
     );
     let header = header_of(samples, &t, ReferenceSettings::default());
-    write_bin(&path, &header, &t).unwrap();
+    let written = write_bin(&path, &header, &t).unwrap();
     let (h, back) = read_bin(&path).unwrap();
-    assert_eq!(h, header);
+    assert_eq!(h, written);
+    assert_eq!(
+        h,
+        ReferenceHeader {
+            data_hash: h.data_hash.clone(),
+            ..header
+        }
+    );
     assert_eq!(back, t);
+    // Regression (study review 2026-11-29, finding 7): positions moved by 5 cm, still finite,
+    // were used as the reference. The data's checksum finds them.
+    let mut bytes = std::fs::read(&path).unwrap();
+    let last = bytes.len() - 4;
+    let moved = f32::from_le_bytes(bytes[last..].try_into().unwrap()) + 0.05;
+    bytes[last..].copy_from_slice(&moved.to_le_bytes());
+    std::fs::write(&path, &bytes).unwrap();
+    match read_bin(&path) {
+        Err(ReferenceError::Malformed { why, .. }) => assert!(why.contains("checksum"), "{why}"),
+        other => panic!("{other:?}"),
+    }
     // A truncated file is reported, not misread.
     let bytes = std::fs::read(&path).unwrap();
     std::fs::write(&path, &bytes[..bytes.len() - 4]).unwrap();
@@ -222,7 +241,7 @@ fn write_small_entry(path: &Path) -> ReferenceHeader {
             ..ReferenceSettings::default()
         },
     );
-    write_bin(path, &header, &t).unwrap();
+    let header = write_bin(path, &header, &t).unwrap();
     assert!(read_bin(path).is_ok());
     header
 }
