@@ -80,6 +80,14 @@ pub fn write_report(out: &Path, c: &Comparison) -> Result<ReportFiles, ReportErr
         );
     }
     let _ = writeln!(md, "{}\n", tables::settings(c));
+    if !m.command.is_empty() {
+        let _ = writeln!(
+            md,
+            "Made by `{}` (adaptcloth {}).\n",
+            m.command.replace('`', "'"),
+            m.version
+        );
+    }
     let summary = reading::summary([c]);
     let _ = writeln!(
         md,

@@ -109,6 +109,8 @@ pub fn compare(base: &LoadedScene, opts: &CompareOptions) -> Result<Comparison, 
             .iter()
             .map(|c| c.fingerprint(base))
             .collect::<Result<_, _>>()?,
+        command: crate::sim::this_command(),
+        version: env!("CARGO_PKG_VERSION").to_string(),
         skipped: not_started(&mine, &rows),
         shard: opts.shard,
         jobs,

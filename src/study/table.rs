@@ -288,6 +288,14 @@ pub struct Manifest {
     /// Empty in a comparison written before they were kept.
     #[serde(default)]
     pub settings: Vec<String>,
+    /// The command that ran this comparison's runs (a merge keeps its first shard's), and the
+    /// program's version: how to make it again. Empty in a comparison written before they were
+    /// kept.
+    #[serde(default)]
+    pub command: String,
+    /// The version of the program that ran the runs (`CARGO_PKG_VERSION`).
+    #[serde(default)]
+    pub version: String,
     /// Configurations left out (by a merge: no shard ran them).
     pub skipped: Vec<Skipped>,
     /// The shard this folder holds (`None`: all, or merged).
@@ -411,6 +419,8 @@ pub(crate) mod tests {
             beta: 1e-3,
             configs: Vec::new(),
             settings: Vec::new(),
+            command: String::new(),
+            version: String::new(),
             skipped: Vec::new(),
             shard: None,
             jobs: 1,

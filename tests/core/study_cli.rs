@@ -164,6 +164,15 @@ fn report_on_a_study_folder_rewrites_the_same_pages() {
     let folder = out.join("sphere");
     let read = |f: &str| std::fs::read(folder.join(f)).unwrap();
     let (report, table) = (read("report.md"), read("comparison.csv"));
+    // Regression (study review 2026-11-29, finding 11): nothing said how the comparison was made.
+    let made = String::from_utf8(report.clone()).unwrap();
+    assert!(
+        made.contains(&format!(
+            "Made by `{} study ",
+            env!("CARGO_BIN_EXE_adaptcloth")
+        )) && made.contains(&format!("(adaptcloth {})", env!("CARGO_PKG_VERSION"))),
+        "{made}"
+    );
     let (code, err) = adaptcloth(&["report", folder.to_str().unwrap()]);
     assert_eq!(code, 0, "{err}");
     assert!(read("report.md") == report, "report.md differs");
