@@ -43,6 +43,9 @@ pub struct MetricsRow {
     pub adapt_events: usize,
     /// Kinetic-energy change of those events (J).
     pub adapt_energy_change: Real,
+    /// Total-energy change of those events (J): kinetic, gravity, stretch and bending after the
+    /// step's adaptation (and the contact passes that follow it) minus before.
+    pub adapt_total_energy_change: Real,
     /// Gravitational potential energy `-sum m g . x` (J).
     pub gravity_energy: Real,
     /// Stretch potential energy of the springs (J).
@@ -90,7 +93,7 @@ impl MetricsWriter {
         write!(
             out,
             "step,t,dt,vertices,edges,faces,min_mass,max_stiffness,total_mass,linear_momentum,\
-             kinetic_energy,max_penetration,max_surface_penetration,self_intersections,contacts,adapt_events,adapt_energy_change,gravity_energy,\
+             kinetic_energy,max_penetration,max_surface_penetration,self_intersections,contacts,adapt_events,adapt_energy_change,adapt_total_energy_change,gravity_energy,\
              stretch_energy,bending_energy,total_energy,cg_iterations,cg_unconverged"
         )?;
         let mut used = Vec::new();
@@ -107,7 +110,7 @@ impl MetricsWriter {
     pub fn row(&mut self, r: &MetricsRow) -> std::io::Result<()> {
         write!(
             self.out,
-            "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{},{:.6e},{:.9e},\
+            "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},\
              {:.9e},{:.9e},{:.9e},{},{}",
             r.step,
             r.t,
@@ -126,6 +129,7 @@ impl MetricsWriter {
             r.contacts,
             r.adapt_events,
             r.adapt_energy_change,
+            r.adapt_total_energy_change,
             r.gravity_energy,
             r.stretch_energy,
             r.bending_energy,

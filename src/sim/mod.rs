@@ -59,6 +59,11 @@ pub struct StepReport {
     pub contacts: ContactStats,
     /// What adaptation changed.
     pub adapt: AdaptReport,
+    /// The cloth's total energy (kinetic, gravity, stretch, bending) after the step's
+    /// adaptation minus before it (J): its edits, the elements rebuilt and the contact passes
+    /// that follow them. 0 without an adaptation event. The adaptation's own report counts only
+    /// the kinetic energy its state transfer changed.
+    pub adapt_total_energy_change: Real,
     /// What the integrator reported (conjugate-gradient iterations).
     pub integrator: StepStats,
 }
@@ -298,8 +303,11 @@ impl Simulation {
         self.check_finite()?;
         self.count_solve(&integrator)?;
 
+        let due = self.adapt_due();
+        let energy = |c: &Cloth| c.model.energies(&c.x, &c.v).total();
+        let energy_before = if due { energy(&self.cloth) } else { 0.0 };
         let clock = Instant::now();
-        let adapt = if self.adapt_due() {
+        let adapt = if due {
             self.last_adapt = Some(self.t);
             let ctx = AdaptContext {
                 obstacles: &self.obstacles,
@@ -358,10 +366,16 @@ impl Simulation {
             self.self_collide(dt, false);
             self.stage_times.collide_s += secs(clock.elapsed());
         }
+        let adapt_total_energy_change = if adapt.events > 0 {
+            energy(&self.cloth) - energy_before
+        } else {
+            0.0
+        };
         Ok(StepReport {
             dt,
             contacts,
             adapt,
+            adapt_total_energy_change,
             integrator,
         })
     }

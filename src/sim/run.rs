@@ -479,6 +479,7 @@ fn metrics_row(sim: &Simulation, last: &super::StepReport, count_crossings: bool
         contacts: last.contacts.contacts,
         adapt_events: last.adapt.events,
         adapt_energy_change: last.adapt.kinetic_energy_change,
+        adapt_total_energy_change: last.adapt_total_energy_change,
         gravity_energy: energy.gravity,
         stretch_energy: energy.stretch,
         bending_energy: energy.bending,
