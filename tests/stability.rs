@@ -3,10 +3,65 @@
 //! cause), plus bracketing checks of the largest stable step. The full-size report is `adaptcloth stability`.
 use adaptcloth::study::stability::{self, CaseSizes, Search};
 
-/// Hard cases still failing, each with its cause and the issue that covers it: `(case, strategy,
-/// integrator, why)`. Every other case must pass for every built strategy, and a listed case
+/// Hard cases still failing, each with its cause (the defects found on 2026-11-29, in #11's
+/// notes): `(case, strategy, integrator, why)`. Every other case must pass for every built strategy, and a listed case
 /// that starts passing fails this test until it is removed from the list.
-const KNOWN_FAILURES: [(&str, &str, &str, &str); 0] = [];
+const KNOWN_FAILURES: [(&str, &str, &str, &str); 9] = [
+    (
+        "cloth draped over a plate",
+        "remesh",
+        "implicit_euler",
+        "contact is answered after the implicit solve, not in it: the draped cloth gains stretch energy (docs/model-notes.md, Known defects 1)",
+    ),
+    (
+        "cloth draped over a plate",
+        "simnett",
+        "implicit_euler",
+        "contact is answered after the implicit solve, not in it: the draped cloth gains stretch energy (docs/model-notes.md, Known defects 1)",
+    ),
+    (
+        "cloth draped over a plate",
+        "bisect48",
+        "implicit_euler",
+        "contact is answered after the implicit solve, not in it: the draped cloth gains stretch energy (docs/model-notes.md, Known defects 1)",
+    ),
+    (
+        "cloth draped over a plate",
+        "simnett",
+        "rk4",
+        "the strategy's edits add elastic energy; the energy law covers remesh only (docs/model-notes.md, Known defects 2)",
+    ),
+    (
+        "cloth draped over a plate",
+        "bisect48",
+        "rk4",
+        "the strategy's edits add elastic energy; the energy law covers remesh only (docs/model-notes.md, Known defects 2)",
+    ),
+    (
+        "long run, sizing field",
+        "simnett",
+        "rk4",
+        "the strategy's edits add elastic energy; the energy law covers remesh only (docs/model-notes.md, Known defects 2)",
+    ),
+    (
+        "long run, sizing field",
+        "simnett",
+        "implicit_euler",
+        "the strategy's edits add elastic energy; the energy law covers remesh only (docs/model-notes.md, Known defects 2)",
+    ),
+    (
+        "long run, sizing field",
+        "bisect48",
+        "implicit_euler",
+        "the strategy's edits add elastic energy; the energy law covers remesh only (docs/model-notes.md, Known defects 2)",
+    ),
+    (
+        "long run, sizing field",
+        "bisect48",
+        "rk4",
+        "diverges at t = 0.45 s (a vertex at 108 m/s): the refined cloth at the dynamic step, cause not yet measured; likely the same elastic energy of the edits (docs/model-notes.md, Known defects 2)",
+    ),
+];
 
 /// The hard cases pass for every built strategy, but for the [`KNOWN_FAILURES`].
 #[test]

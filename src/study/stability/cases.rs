@@ -1,6 +1,7 @@
 //! The hard cases of the stability suite: each with its pass criterion and its measured figure,
 //! for every strategy (stiff material, a step beyond the explicit limit, tiny elements, a
-//! high-speed impact, a long run, extreme compression).
+//! high-speed impact, a long run, extreme compression, a cloth draped over a plate, a long run
+//! with the sizing field).
 
 use super::*;
 
@@ -361,6 +362,86 @@ pub fn case_compression(c: &Case, beta: Real) -> CaseResult {
     }
 }
 
+/// A cloth landing flat at 1 m/s on a plate of 0.4 m x 0.4 m x 2 mm, smaller than the cloth, so
+/// it drapes over the plate's edges (drag off): the contact takes the energy of the landing
+/// and the physics only dissipates after it; total energy never rises beyond the tolerance
+/// after 0.1 s. Contact is answered after the implicit solve, not in it, which fails this at
+/// large steps (docs/model-notes.md, "Known defects").
+pub fn case_draped_plate(c: &Case, beta: Real) -> CaseResult {
+    let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
+    let mut loaded = sized(
+        "hanging",
+        integrator,
+        strategy,
+        sizes.resolution,
+        sizes.duration,
+    );
+    let s = &mut loaded.scene;
+    s.cloth.pinned.clear();
+    s.cloth.pinned_velocity.clear();
+    s.cloth.center = [0.0, 0.0, 0.05];
+    s.cloth.velocity = [0.0, 0.0, -1.0];
+    s.forces.drag = false;
+    s.obstacles = vec![scene::ObstacleSpec {
+        shape: scene::ObstacleShape::Box {
+            center: [0.0, 0.0, 0.0],
+            half_extents: [0.2, 0.2, 0.001],
+        },
+        friction: 0.05,
+        restitution: 0.0,
+        motion: None,
+    }];
+    set_step(&mut loaded, beta);
+    let (o, _) = run(Simulation::new(&loaded).expect("builds"), 0.1, true);
+    let margin = loaded.scene.collision.margin;
+    CaseResult {
+        case: "cloth draped over a plate",
+        strategy: strategy.into(),
+        integrator: integrator.into(),
+        criterion: format!(
+            "lands at 1 m/s on a 0.4 m square plate and drapes over its edges ({} s, no drag): completes, largest penetration <= margin ({margin} m), total energy never rises above its running minimum by more than the tolerance after 0.1 s",
+            sizes.duration
+        ),
+        measured: format!(
+            "{}; max penetration {:.2e} m",
+            energy_words(&o),
+            o.max_penetration
+        ),
+        passed: o.completed
+            && o.finite
+            && o.max_penetration <= margin
+            && o.max_rise_after_settle <= ENERGY_TOL * o.energy_scale,
+    }
+}
+
+/// The long run of `hanging` from a 5x5 start with the sizing field down to `h_min` = 3 cm: the
+/// adaptive strategies refine and coarsen a settling cloth for the whole run, and the total
+/// energy must never rise beyond the tolerance after 0.1 s (edits that add elastic energy fail
+/// it: docs/model-notes.md, "Known defects"). `static` keeps its 5x5 grid.
+pub fn case_sizing_long_run(c: &Case, beta: Real) -> CaseResult {
+    let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
+    let mut loaded = sized("hanging", integrator, strategy, 5, sizes.long_duration);
+    let adapts = crate::strategies::strategy_named(strategy).is_ok_and(|s| s.edits_mesh);
+    if adapts {
+        let a = &mut loaded.scene.adaptivity;
+        a.criteria = scene::CriteriaSpec::Sizing;
+        a.h_min = 0.03;
+    }
+    set_step(&mut loaded, beta);
+    let (o, _) = run(Simulation::new(&loaded).expect("builds"), 0.1, false);
+    CaseResult {
+        case: "long run, sizing field",
+        strategy: strategy.into(),
+        integrator: integrator.into(),
+        criterion: format!(
+            "{} s of `hanging` with damping from a 5x5 start, the sizing field down to h_min = 0.03 m: completes; total energy never rises above its running minimum by more than the tolerance after 0.1 s",
+            sizes.long_duration
+        ),
+        measured: energy_words(&o),
+        passed: o.completed && o.finite && o.max_rise_after_settle <= ENERGY_TOL * o.energy_scale,
+    }
+}
+
 /// Every hard case for one strategy with the [`CASE_INTEGRATORS`], plus the beyond-the-limit
 /// case for every integrator.
 pub fn hard_cases(strategy: &str, sizes: &CaseSizes) -> Vec<CaseResult> {
@@ -381,6 +462,8 @@ pub fn hard_cases(strategy: &str, sizes: &CaseSizes) -> Vec<CaseResult> {
         out.push(case_impact(&case(integrator), beta));
         out.push(case_long_run(&case(integrator), beta));
         out.push(case_compression(&case(integrator), beta));
+        out.push(case_draped_plate(&case(integrator), beta));
+        out.push(case_sizing_long_run(&case(integrator), beta));
     }
     out
 }
