@@ -97,6 +97,12 @@ fn energy_words(o: &Outcome) -> String {
     )
 }
 
+/// The energy criterion of the hard cases: completed, finite, and the total energy never above
+/// its running minimum by more than the tolerance after the settling time.
+fn kept_energy(o: &Outcome) -> bool {
+    o.completed && o.finite && o.max_rise_after_settle <= ENERGY_TOL * o.energy_scale
+}
+
 /// Stiff material: `hanging` at E = 1e9.
 pub fn case_stiff(c: &Case, beta: Real) -> CaseResult {
     let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
@@ -113,7 +119,7 @@ pub fn case_stiff(c: &Case, beta: Real) -> CaseResult {
         strategy: strategy.into(),
         integrator: integrator.into(),
         criterion: "completes, finite, total energy never rises above its running minimum by more than the tolerance after 0.1 s".into(),
-        passed: o.completed && o.finite && o.max_rise_after_settle <= ENERGY_TOL * o.energy_scale,
+        passed: kept_energy(&o),
         measured: energy_words(&o),
     }
 }
@@ -253,7 +259,7 @@ pub fn case_tiny_elements(c: &Case, beta: Real) -> CaseResult {
             energy_words(&o),
             if o.message.is_empty() { String::new() } else { format!(" ({})", o.message) }
         ),
-        passed: o.completed && o.finite && o.max_rise_after_settle <= ENERGY_TOL * o.energy_scale,
+        passed: kept_energy(&o),
     }
 }
 
@@ -297,21 +303,37 @@ pub fn case_impact(c: &Case, beta: Real) -> CaseResult {
 /// A long run of `hanging` with damping: total energy never rises beyond the tolerance after the
 /// first 0.1 s.
 pub fn case_long_run(c: &Case, beta: Real) -> CaseResult {
-    let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
-    let n = sizes.resolution;
-    let mut loaded = sized("hanging", integrator, strategy, n, sizes.long_duration);
+    let loaded = sized(
+        "hanging",
+        c.integrator,
+        c.strategy,
+        c.sizes.resolution,
+        c.sizes.long_duration,
+    );
+    long_run_result(c, beta, loaded, "long run", "")
+}
+
+/// Runs `loaded` (a long run of `hanging`, `detail` saying how it differs) to its end and judges
+/// it by [`kept_energy`].
+fn long_run_result(
+    c: &Case,
+    beta: Real,
+    mut loaded: LoadedScene,
+    case: &'static str,
+    detail: &str,
+) -> CaseResult {
     set_step(&mut loaded, beta);
     let (o, _) = run(Simulation::new(&loaded).expect("builds"), 0.1, false);
     CaseResult {
-        case: "long run",
-        strategy: strategy.into(),
-        integrator: integrator.into(),
+        case,
+        strategy: c.strategy.into(),
+        integrator: c.integrator.into(),
         criterion: format!(
-            "{} s of `hanging` with damping: completes; total energy never rises above its running minimum by more than the tolerance after 0.1 s",
-            sizes.long_duration
+            "{} s of `hanging` with damping{detail}: completes; total energy never rises above its running minimum by more than the tolerance after 0.1 s",
+            c.sizes.long_duration
         ),
         measured: energy_words(&o),
-        passed: o.completed && o.finite && o.max_rise_after_settle <= ENERGY_TOL * o.energy_scale,
+        passed: kept_energy(&o),
     }
 }
 
@@ -410,7 +432,7 @@ pub fn case_draped_plate(c: &Case, beta: Real) -> CaseResult {
         passed: o.completed
             && o.finite
             && o.max_penetration <= margin
-            && o.max_rise_after_settle <= ENERGY_TOL * o.energy_scale,
+            && kept_energy(&o),
     }
 }
 
@@ -419,27 +441,20 @@ pub fn case_draped_plate(c: &Case, beta: Real) -> CaseResult {
 /// energy must never rise beyond the tolerance after 0.1 s (edits that add elastic energy fail
 /// it: docs/model-notes.md, "Known defects"). `static` keeps its 5x5 grid.
 pub fn case_sizing_long_run(c: &Case, beta: Real) -> CaseResult {
-    let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
-    let mut loaded = sized("hanging", integrator, strategy, 5, sizes.long_duration);
-    let adapts = crate::strategies::strategy_named(strategy).is_ok_and(|s| s.edits_mesh);
-    if adapts {
+    let mut loaded = sized(
+        "hanging",
+        c.integrator,
+        c.strategy,
+        5,
+        c.sizes.long_duration,
+    );
+    if crate::strategies::strategy_named(c.strategy).is_ok_and(|s| s.edits_mesh) {
         let a = &mut loaded.scene.adaptivity;
         a.criteria = scene::CriteriaSpec::Sizing;
         a.h_min = 0.03;
     }
-    set_step(&mut loaded, beta);
-    let (o, _) = run(Simulation::new(&loaded).expect("builds"), 0.1, false);
-    CaseResult {
-        case: "long run, sizing field",
-        strategy: strategy.into(),
-        integrator: integrator.into(),
-        criterion: format!(
-            "{} s of `hanging` with damping from a 5x5 start, the sizing field down to h_min = 0.03 m: completes; total energy never rises above its running minimum by more than the tolerance after 0.1 s",
-            sizes.long_duration
-        ),
-        measured: energy_words(&o),
-        passed: o.completed && o.finite && o.max_rise_after_settle <= ENERGY_TOL * o.energy_scale,
-    }
+    let detail = " from a 5x5 start, the sizing field down to h_min = 0.03 m";
+    long_run_result(c, beta, loaded, "long run, sizing field", detail)
 }
 
 /// Every hard case for one strategy with the [`CASE_INTEGRATORS`], plus the beyond-the-limit
