@@ -153,31 +153,20 @@ pub fn in_pool<R: Send>(threads: usize, work: impl FnOnce() -> R + Send) -> R {
 /// joined by shared vertices keeps its world `(x, y)`, moved 100 m along `x` per piece, so
 /// vertices of different pieces are far apart in the pattern (two layers, not one piece).
 pub fn pieces_pattern(x: &[Vec3], faces: &[[usize; 3]]) -> Vec<Vec2> {
-    let mut piece: Vec<usize> = (0..x.len()).collect();
-    fn root(piece: &mut [usize], mut i: usize) -> usize {
-        while piece[i] != i {
-            piece[i] = piece[piece[i]];
-            i = piece[i];
-        }
-        i
-    }
+    let mut pieces = petgraph::unionfind::UnionFind::<usize>::new(x.len());
     for f in faces {
-        for k in 1..3 {
-            let (a, b) = (root(&mut piece, f[0]), root(&mut piece, f[k]));
-            piece[a.max(b)] = a.min(b);
-        }
+        pieces.union(f[0], f[1]);
+        pieces.union(f[0], f[2]);
     }
-    let mut roots: Vec<usize> = (0..x.len()).map(|i| root(&mut piece, i)).collect();
-    let index = roots.clone();
+    let labels = pieces.into_labeling();
+    let mut roots = labels.clone();
     roots.sort_unstable();
     roots.dedup();
     x.iter()
-        .zip(index)
+        .zip(&labels)
         .map(|(p, r)| {
-            Vec2::new(
-                p.x + 100.0 * roots.binary_search(&r).unwrap_or(0) as Real,
-                p.y,
-            )
+            let piece = roots.binary_search(r).unwrap_or(0);
+            Vec2::new(p.x + 100.0 * piece as Real, p.y)
         })
         .collect()
 }

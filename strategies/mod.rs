@@ -105,6 +105,11 @@ pub fn strategy_named(name: &str) -> Result<&'static StrategyInfo, StrategyError
         .ok_or_else(|| StrategyError::Unknown(name.to_string()))
 }
 
+/// True when the strategy called `name` edits the mesh (false for `static` and unknown names).
+pub fn edits_mesh(name: &str) -> bool {
+    strategy_named(name).is_ok_and(|s| s.edits_mesh)
+}
+
 /// A new strategy called `name` (see [`STRATEGIES`]).
 pub fn make_strategy(name: &str) -> Result<Box<dyn Adaptivity>, StrategyError> {
     strategy_named(name).map(|s| (s.make)())

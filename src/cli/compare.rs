@@ -303,6 +303,7 @@ fn run_plans(
     for ScenePlan {
         loaded,
         configs,
+        settings,
         out,
         notes,
     } in plans
@@ -322,6 +323,7 @@ fn run_plans(
         }
         let opts = CompareOptions {
             configs,
+            settings,
             jobs: e.jobs,
             shard: e.shard,
             out_dir: out.clone(),

@@ -56,7 +56,7 @@ pub(super) fn strategy_options(c: &Checker, a: &AdaptivitySpec) -> Result<(), Sc
 /// Fails when the criteria are the sizing field's while the strategy never edits the mesh
 /// (`static` reads no criteria).
 pub(super) fn criteria_need_adaptivity(c: &Checker, a: &AdaptivitySpec) -> Result<(), SceneError> {
-    let adapts = crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh);
+    let adapts = crate::strategies::edits_mesh(&a.strategy);
     if a.criteria != CriteriaSpec::Sizing || adapts {
         return Ok(());
     }
@@ -77,7 +77,7 @@ pub(super) fn criteria_need_adaptivity(c: &Checker, a: &AdaptivitySpec) -> Resul
 /// `--strategy` would otherwise run the static grid silently. Not an error: a study's `set` of
 /// `h_min` reaches its static runs, whose `scene.resolved.toml` keeps it and must run again.
 pub(super) fn ignored_floor(a: &AdaptivitySpec) -> Option<String> {
-    let adapts = crate::strategies::strategy_named(&a.strategy).is_ok_and(|s| s.edits_mesh);
+    let adapts = crate::strategies::edits_mesh(&a.strategy);
     if adapts || a.h_min == AdaptivitySpec::default().h_min {
         return None;
     }

@@ -192,6 +192,11 @@ impl Setting {
         }
     }
 
+    /// The key it sets (`section.key`, trimmed); `None` for an argument without `=`.
+    pub fn key(&self) -> Option<&str> {
+        self.arg.split_once('=').map(|(key, _)| key.trim())
+    }
+
     /// Where it was given, naming the key and the value: `--set ARG` or [`Setting::from`].
     pub fn place(&self) -> String {
         self.from
@@ -498,10 +503,7 @@ pub fn with_overrides(loaded: &LoadedScene, set: &[Setting]) -> Result<LoadedSce
 /// Each setting's key with its place ([`Setting::place`]).
 fn places(set: &[Setting]) -> Vec<(String, String)> {
     set.iter()
-        .filter_map(|s| {
-            let (key, _) = s.arg.split_once('=')?;
-            Some((key.trim().to_string(), s.place()))
-        })
+        .filter_map(|s| Some((s.key()?.to_string(), s.place())))
         .collect()
 }
 

@@ -24,6 +24,9 @@ use std::sync::Arc;
 pub struct CompareOptions {
     /// The configurations (all shards).
     pub configs: Vec<RunConfig>,
+    /// Each configuration's settings fingerprint, in `configs`' order (recorded in the manifest
+    /// for `merge`).
+    pub settings: Vec<String>,
     /// Parallel runs.
     pub jobs: usize,
     /// Run only this slice.
@@ -104,11 +107,7 @@ pub fn compare(base: &LoadedScene, opts: &CompareOptions) -> Result<Comparison, 
         duration: base.scene.time.duration,
         beta: base.scene.time.beta,
         configs: labels,
-        settings: opts
-            .configs
-            .iter()
-            .map(|c| c.fingerprint(base))
-            .collect::<Result<_, _>>()?,
+        settings: opts.settings.clone(),
         command: crate::sim::this_command(),
         version: env!("CARGO_PKG_VERSION").to_string(),
         skipped: not_started(&mine, &rows),

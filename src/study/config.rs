@@ -70,15 +70,6 @@ impl RunConfig {
             .map_err(|e| StudyError::Config(format!("{e} (run {})", self.label())))
     }
 
-    /// The fingerprint of this run's settings: FNV-1a (hex) of its scene on `base` after every
-    /// override, as TOML (mesh paths as written, so shards run in other folders agree).
-    pub fn fingerprint(&self, base: &LoadedScene) -> Result<String, StudyError> {
-        let scene = self.scene(base)?.scene;
-        let text = toml::to_string(&scene).unwrap_or_else(|e| format!("not serializable: {e}"));
-        let hash = crate::eval::fnv1a(crate::eval::FNV_OFFSET, text.as_bytes());
-        Ok(format!("{hash:016x}"))
-    }
-
     /// Fails when a key of this run's own `set` or `sweep` is one its scene `run` (this run's,
     /// [`RunConfig::scene`]) does not read, so runs swept over it would be the same run under
     /// different labels: `time.dt` on the dynamic step, `time.beta` and the dynamic step's
@@ -87,9 +78,9 @@ impl RunConfig {
     /// one span of time).
     pub fn check_keys_read(&self, run: &LoadedScene) -> Result<(), StudyError> {
         let time = &run.scene.time;
-        let adapts = crate::strategies::strategy_named(&self.strategy).is_ok_and(|s| s.edits_mesh);
+        let adapts = crate::strategies::edits_mesh(&self.strategy);
         for setting in &self.set {
-            let key = setting.arg.split('=').next().unwrap_or_default().trim();
+            let Some(key) = setting.key() else { continue };
             let from = || setting.from.clone().unwrap_or_else(|| self.from.clone());
             if key == "time.duration" {
                 return Err(StudyError::Config(format!(
@@ -134,6 +125,14 @@ impl RunConfig {
         }
         Ok(())
     }
+}
+
+/// The fingerprint of a run's settings: FNV-1a (hex) of its scene `run` ([`RunConfig::scene`])
+/// as TOML (mesh paths as written, so shards run in other folders agree).
+pub fn fingerprint(run: &LoadedScene) -> String {
+    let text = toml::to_string(&run.scene).unwrap_or_else(|e| format!("not serializable: {e}"));
+    let hash = crate::eval::fnv1a(crate::eval::FNV_OFFSET, text.as_bytes());
+    format!("{hash:016x}")
 }
 
 /// The default list: static on [`DEFAULT_STATIC_GRIDS`] and every adaptive strategy on the

@@ -1,7 +1,7 @@
 //! A study made concrete: each scene loaded with the study's overrides, its configurations built
 //! and every run's scene validated, before anything runs.
 
-use super::config::{configs_for, RunConfig};
+use super::config::{configs_for, fingerprint, RunConfig};
 use super::file::Study;
 use super::StudyError;
 use crate::scene::{self, LoadedScene, Overrides};
@@ -15,6 +15,8 @@ pub struct ScenePlan {
     pub loaded: LoadedScene,
     /// The configurations, in study order.
     pub configs: Vec<RunConfig>,
+    /// Each configuration's settings fingerprint ([`fingerprint`]), in `configs`' order.
+    pub settings: Vec<String>,
     /// The comparison's output folder.
     pub out: PathBuf,
     /// What to tell the user before the runs (runs of an integrator stable at any step on the
@@ -57,11 +59,13 @@ pub fn plan(
         }
         let configs = configs_for(&study.runs, &loaded)?;
         let mut small_steps = Vec::new();
+        let mut settings = Vec::with_capacity(configs.len());
         for c in &configs {
             // A run whose settings make a scene that cannot be set up (a swept cloth size that
             // leaves a tracked point off the cloth) is refused here, before any run starts.
             let run = c.scene(&loaded)?;
             c.check_keys_read(&run)?;
+            settings.push(fingerprint(&run));
             let simulation = Simulation::new(&run).map_err(|e| {
                 StudyError::Config(format!(
                     "run {}: its settings make a scene that cannot be set up: {e}",
@@ -84,6 +88,7 @@ pub fn plan(
         plans.push(ScenePlan {
             loaded,
             configs,
+            settings,
             out: dir,
             notes,
         });

@@ -284,7 +284,7 @@ pub struct Manifest {
     /// Every configuration of the sweep (all shards), by label, in order.
     pub configs: Vec<String>,
     /// Each configuration's settings fingerprint, in `configs`' order
-    /// ([`super::RunConfig::fingerprint`]): `merge` refuses shards whose runs of one label differ.
+    /// ([`super::config::fingerprint`]): `merge` refuses shards whose runs of one label differ.
     /// Empty in a comparison written before they were kept.
     #[serde(default)]
     pub settings: Vec<String>,

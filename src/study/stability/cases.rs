@@ -448,7 +448,7 @@ pub fn case_sizing_long_run(c: &Case, beta: Real) -> CaseResult {
         5,
         c.sizes.long_duration,
     );
-    if crate::strategies::strategy_named(c.strategy).is_ok_and(|s| s.edits_mesh) {
+    if crate::strategies::edits_mesh(c.strategy) {
         let a = &mut loaded.scene.adaptivity;
         a.criteria = scene::CriteriaSpec::Sizing;
         a.h_min = 0.03;
