@@ -325,7 +325,7 @@ pub(super) fn cylinder_side_contact(
 }
 
 /// Barycentric weights of `p` (on the triangle, m) in `tri`, clamped to the triangle.
-fn barycentric(p: Vector, tri: [Vector; 3]) -> [Real; 3] {
+pub(super) fn barycentric(p: Vector, tri: [Vector; 3]) -> [Real; 3] {
     let (e1, e2, d) = (tri[1] - tri[0], tri[2] - tri[0], p - tri[0]);
     let (a, b, c) = (e1.dot(e1), e1.dot(e2), e2.dot(e2));
     let det = a * c - b * b;

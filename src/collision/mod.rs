@@ -24,7 +24,8 @@
 //! `cylinder_ray` (closed-form ray entry into a cylinder, in place of parry's GJK), `grid` (mesh
 //! signed-distance bounds), `crossings` (the cloth's crossings with itself:
 //! [`self_intersections`]), `face_grid` (a uniform grid of triangles' boxes, for the measure and
-//! adaptation's crossing check), `error` ([`CollisionError`]).
+//! adaptation's crossing check), `resting` (the vertices resting on an obstacle, for an
+//! integrator that holds them in its solve, and their friction), `error` ([`CollisionError`]).
 //!
 //! Depths and distances are measured from the raw surface (margin not included): the promise
 //! "no penetration beyond the collision margin" reads `max_penetration <= margin`.
@@ -40,6 +41,7 @@ mod motion;
 #[cfg(test)]
 mod motion_tests;
 mod params;
+mod resting;
 mod segment_query;
 mod self_contact;
 mod shape;
@@ -52,6 +54,7 @@ pub(crate) use face_grid::{bounds, FaceGrid};
 pub use faces::{FaceContactStats, FaceScratch};
 pub use motion::ObstacleMotion;
 pub use params::{ContactParams, Obstacle, ObstacleShape};
+pub use resting::LEAVING_SPEED;
 pub use self_contact::{SelfContact, SelfContactStats, SelfContactTotals};
 
 use crate::math::{Real, Vec3};

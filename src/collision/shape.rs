@@ -257,10 +257,20 @@ impl Solid {
     pub fn collide(&self, vel: Vector, p: Vector, n: Vector, gamma: Real, mu: Real) -> Vector {
         match &self.moving {
             None => collide_velocity(vel, n, gamma, mu),
-            Some(m) => {
-                let carried = m.velocity.at(p);
+            Some(_) => {
+                let carried = self.surface_velocity(p);
                 collide_velocity(vel - carried, n, gamma, mu) + carried
             }
+        }
+    }
+
+    /// Velocity (m/s) of the obstacle's material at the world point `p` (m), at the end of the
+    /// current step; zero for a still obstacle.
+    #[inline]
+    pub fn surface_velocity(&self, p: Vector) -> Vector {
+        match &self.moving {
+            None => Vector::ZERO,
+            Some(m) => m.velocity.at(p),
         }
     }
 

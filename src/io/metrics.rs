@@ -39,6 +39,9 @@ pub struct MetricsRow {
     pub self_intersections: Option<usize>,
     /// Vertices in contact during the last step.
     pub contacts: usize,
+    /// Vertices resting on an obstacle that the last step's implicit solve held (0 for an
+    /// integrator that holds none).
+    pub held_contacts: usize,
     /// Adaptation events in the last step.
     pub adapt_events: usize,
     /// Kinetic-energy change of those events (J).
@@ -93,7 +96,7 @@ impl MetricsWriter {
         write!(
             out,
             "step,t,dt,vertices,edges,faces,min_mass,max_stiffness,total_mass,linear_momentum,\
-             kinetic_energy,max_penetration,max_surface_penetration,self_intersections,contacts,adapt_events,adapt_energy_change,adapt_total_energy_change,gravity_energy,\
+             kinetic_energy,max_penetration,max_surface_penetration,self_intersections,contacts,held_contacts,adapt_events,adapt_energy_change,adapt_total_energy_change,gravity_energy,\
              stretch_energy,bending_energy,total_energy,cg_iterations,cg_unconverged"
         )?;
         let mut used = Vec::new();
@@ -110,7 +113,7 @@ impl MetricsWriter {
     pub fn row(&mut self, r: &MetricsRow) -> std::io::Result<()> {
         write!(
             self.out,
-            "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},\
+            "{},{:.9e},{:.6e},{},{},{},{:.6e},{:.6e},{:.9e},{:.6e},{:.6e},{:.6e},{:.6e},{},{},{},{},{:.6e},{:.6e},{:.9e},\
              {:.9e},{:.9e},{:.9e},{},{}",
             r.step,
             r.t,
@@ -127,6 +130,7 @@ impl MetricsWriter {
             r.max_surface_penetration,
             r.self_intersections.map_or(String::new(), |n| n.to_string()),
             r.contacts,
+            r.held_contacts,
             r.adapt_events,
             r.adapt_energy_change,
             r.adapt_total_energy_change,

@@ -133,6 +133,34 @@ pub trait Integrator: Send {
     /// history lives in `(x, v)`, the Verlet family included); `bdf2` restarts from a backward
     /// Euler step.
     fn forget_history(&mut self) {}
+
+    /// The contacts this integrator holds in its solve, for the caller to fill before each step
+    /// (every vertex resting on an obstacle) and to read after it (each one's impulse). `None`
+    /// (the default) for an integrator that leaves contact to the collision response after the
+    /// step; `implicit_euler` and `bdf2` hold them ([`Hold`]).
+    fn holds(&mut self) -> Option<&mut Vec<Hold>> {
+        None
+    }
+}
+
+/// A vertex resting on an obstacle, held on its surface through one implicit step: Baraff &
+/// Witkin's filter `S = I - n nᵀ` on its slot, so the step leaves its velocity along `n`
+/// unchanged (`dv . n = 0`) and solves the rest of the system with that constraint in it.
+///
+/// Released (not held; `impulse` 0) when the forces at the step's start pull it off the surface
+/// (`f . n >= 0`), when its slot is fixed, or when an earlier hold holds its slot.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hold {
+    /// The vertex's slot.
+    pub slot: usize,
+    /// The obstacle's outward unit normal at the vertex.
+    pub normal: Vec3,
+    /// Set by the step: whether it was held.
+    pub held: bool,
+    /// Set by the step: the normal impulse the obstacle gave the vertex over the step (N s),
+    /// `n . (A dv - b)` of the unfiltered system; 0 when released. Negative when the solve's
+    /// neighbours pulled a held vertex off (it was held for that one step all the same).
+    pub impulse: Real,
 }
 
 /// One step to take: the state `(x, v)` at time `t` and the step size.

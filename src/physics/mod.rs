@@ -41,8 +41,8 @@ mod tests;
 pub use elements::{Bends, Springs};
 pub use forces::{Energies, ForceModel};
 pub use integrator::{
-    integrator_named, make_integrator, Dynamics, Euler, EulerKind, ImplicitEuler, Integrator, Rk4,
-    Step, StepStats, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
+    integrator_named, make_integrator, Dynamics, Euler, EulerKind, Hold, ImplicitEuler, Integrator,
+    Rk4, Step, StepStats, UnknownIntegrator, VelocityVerlet, Verlet, VerletKind, INTEGRATORS,
 };
 pub use limits::{StabilityLimit, ITERATIONS_AFTER_EDIT, STEPS_PER_ITERATION};
 pub use params::{Forces, IntegratorParams, LinearSolver, Material, SpringMode, StiffnessModel};

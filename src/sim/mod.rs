@@ -3,6 +3,7 @@
 //! and the run driver are in [`run`].
 
 mod frames;
+mod holds;
 mod run;
 mod sample;
 mod self_pass;
@@ -30,6 +31,7 @@ use std::sync::Arc;
 /// ([`Simulation::check_step_estimate`]).
 pub const FORCE_HINT: &str = "--force runs it anyway";
 use crate::strategies::make_strategy;
+use holds::Holding;
 use self_pass::SelfPass;
 use std::time::{Duration, Instant};
 
@@ -57,6 +59,9 @@ pub struct StepReport {
     pub dt: Real,
     /// Collision statistics of the step.
     pub contacts: ContactStats,
+    /// Vertices resting on an obstacle that the integrator held in its solve ([`Holding`]; 0
+    /// for an integrator that holds none).
+    pub held_contacts: usize,
     /// What adaptation changed.
     pub adapt: AdaptReport,
     /// The cloth's total energy (kinetic, gravity, stretch, bending) after the step's
@@ -172,6 +177,8 @@ pub struct Simulation {
     self_contact: Option<SelfPass>,
     /// What self-collision did so far.
     pub self_contact_totals: SelfContactTotals,
+    /// The contacts handed to the integrator to hold in its solve, with their obstacles.
+    holding: Holding,
 }
 
 impl Simulation {
@@ -232,6 +239,7 @@ impl Simulation {
                 .self_collision
                 .then(|| SelfPass::new(loaded.scene.collision.thickness)),
             self_contact_totals: SelfContactTotals::default(),
+            holding: Holding::default(),
         })
     }
 
@@ -265,6 +273,13 @@ impl Simulation {
         let clock = Instant::now();
         self.x_start.clear();
         self.x_start.extend_from_slice(&self.cloth.x);
+        if self.integrator.holds().is_some() {
+            let face_contact = self.list_faces();
+            let faces = face_contact.then_some(&self.faces.1[..]);
+            let integrator = &mut *self.integrator;
+            self.holding
+                .prepare(integrator, &self.obstacles, &self.cloth, faces);
+        }
         let cloth = &mut self.cloth;
         let integrator = self
             .integrator
@@ -280,6 +295,13 @@ impl Simulation {
         self.before_obstacles();
         // Moving obstacles go to where they are at the end of the step.
         self.obstacles.set_step(self.t, self.t + dt);
+        let held_contacts = self.holding.finish(
+            &mut *self.integrator,
+            &self.obstacles,
+            &mut self.cloth,
+            self.scene.material.mu,
+            dt,
+        );
         let cloth = &mut self.cloth;
         let contacts = if self.obstacles.is_empty() {
             ContactStats::default()
@@ -295,7 +317,7 @@ impl Simulation {
             stats.contacts += self.face_pass(true);
             stats
         };
-        self.contact_seen |= contacts.contacts > 0;
+        self.contact_seen |= contacts.contacts + held_contacts > 0;
         self.self_collide(dt, true);
         self.stage_times.collide_s += secs(clock.elapsed());
         self.t += dt;
@@ -374,6 +396,7 @@ impl Simulation {
         Ok(StepReport {
             dt,
             contacts,
+            held_contacts,
             adapt,
             adapt_total_energy_change,
             integrator,
@@ -386,16 +409,10 @@ impl Simulation {
     /// after an adaptation event, which moves nothing); returns the face contacts resolved (0 in
     /// vertex mode).
     fn face_pass(&mut self, swept: bool) -> usize {
-        if self.scene.collision.mode != CollisionMode::Face || self.obstacles.is_empty() {
+        if !self.list_faces() {
             return 0;
         }
         let cloth = &mut self.cloth;
-        if self.faces.0 != cloth.mesh.version() {
-            let mesh = &cloth.mesh;
-            self.faces.1.clear();
-            self.faces.1.extend(mesh.face_vertex_slots());
-            self.faces.0 = mesh.version();
-        }
         self.obstacles
             .respond_faces(
                 &self.faces.1,
@@ -407,6 +424,21 @@ impl Simulation {
                 &mut self.faces.2,
             )
             .contacts
+    }
+
+    /// With face contact and obstacles, lists the live faces (vertex slots) in `self.faces` if
+    /// the mesh changed since they were listed, and returns true; false otherwise.
+    fn list_faces(&mut self) -> bool {
+        if self.scene.collision.mode != CollisionMode::Face || self.obstacles.is_empty() {
+            return false;
+        }
+        let mesh = &self.cloth.mesh;
+        if self.faces.0 != mesh.version() {
+            self.faces.1.clear();
+            self.faces.1.extend(mesh.face_vertex_slots());
+            self.faces.0 = mesh.version();
+        }
+        true
     }
 
     /// Keeps the cloth's positions before the obstacles' response, for the self pass.

@@ -477,6 +477,7 @@ fn metrics_row(sim: &Simulation, last: &super::StepReport, count_crossings: bool
         max_surface_penetration: sim.max_surface_penetration(),
         self_intersections: count_crossings.then(|| sim.self_intersections()),
         contacts: last.contacts.contacts,
+        held_contacts: last.held_contacts,
         adapt_events: last.adapt.events,
         adapt_energy_change: last.adapt.kinetic_energy_change,
         adapt_total_energy_change: last.adapt_total_energy_change,

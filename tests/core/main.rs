@@ -14,6 +14,7 @@ mod moving;
 mod output_paths;
 mod physics_laws;
 mod resolution;
+mod resting;
 mod run_outputs;
 mod runs;
 mod scene_fuzz;

@@ -23,7 +23,7 @@
 //! after every adaptation event). Fixed slots keep their position.
 
 use super::implicit_euler::ImplicitEuler;
-use super::{fit, Dynamics, Integrator, Step, StepStats};
+use super::{fit, Dynamics, Hold, Integrator, Step, StepStats};
 use crate::math::{Real, Vec3};
 use crate::physics::IntegratorParams;
 use std::sync::atomic::AtomicBool;
@@ -80,6 +80,10 @@ impl Integrator for Bdf2 {
 
     fn forget_history(&mut self) {
         self.dt_prev = None;
+    }
+
+    fn holds(&mut self) -> Option<&mut Vec<Hold>> {
+        self.solver.holds()
     }
 
     fn advance(&mut self, dynamics: &dyn Dynamics, step: Step) -> StepStats {

@@ -183,7 +183,8 @@ impl Pattern {
     /// `P = A_f + sum w s sᵀ` over the couplings `(k, l)` left out, `s` the 3n-vector holding
     /// `u_k` at slot `k` and `-u_l` at slot `l` (zero at a fixed slot): their off-diagonal
     /// blocks cancel, the two diagonal blocks grow by `w u_k u_kᵀ` and `w u_l u_lᵀ`, so `P - A_f`
-    /// is positive semi-definite and `P` positive definite. `blocks` and `diagonal` are scratch. `model` must fit the pattern
+    /// is positive semi-definite and `P` positive definite; a held slot's rows and columns are
+    /// filtered as in `A_f`. `blocks` and `diagonal` are scratch. `model` must fit the pattern
     /// ([`Pattern::fits`]) and be the one `system` was built from. Values are rounded to `T`'s
     /// precision (none for `f64`).
     pub(super) fn fill<T: Precision>(
@@ -218,6 +219,13 @@ impl Pattern {
             }
         }
         let fixed = |i: usize| model.inv_mass()[i] == 0.0;
+        // A held slot's filter `S = I - n nᵀ` on its rows and columns; `n nᵀ` on its diagonal.
+        let filter = |i: usize| system.held_at[i].map(|n| Mat3::identity() - n * n.transpose());
+        for (slot, d) in diagonal.iter_mut().enumerate() {
+            if let (Some(s), Some(n)) = (filter(slot), system.held_at[slot]) {
+                *d = s * *d * s + n * n.transpose();
+            }
+        }
         values.clear();
         values.resize(self.row_idx.len(), T::from_f64(0.0));
         for c in 0..self.topology.slots {
@@ -238,11 +246,20 @@ impl Pattern {
                     continue; // the column of a fixed slot is the identity's
                 }
                 for (q, p) in range.clone().enumerate() {
-                    if fixed(self.slot_at[self.block_row[p]]) {
+                    let row_slot = self.slot_at[self.block_row[p]];
+                    if fixed(row_slot) {
                         continue;
                     }
+                    let block = match (filter(row_slot), filter(slot)) {
+                        (None, None) => blocks[p],
+                        (r, c) => {
+                            r.unwrap_or_else(Mat3::identity)
+                                * blocks[p]
+                                * c.unwrap_or_else(Mat3::identity)
+                        }
+                    };
                     for i in 0..3 {
-                        values[start + 3 - k + 3 * q + i] = T::from_f64(blocks[p][(i, k)]);
+                        values[start + 3 - k + 3 * q + i] = T::from_f64(block[(i, k)]);
                     }
                 }
             }

@@ -88,7 +88,7 @@ impl Cg {
             }
         }
         let stop = self.tolerance * b_norm;
-        self.precondition(&mut preconditioner);
+        self.precondition(system, &mut preconditioner);
         self.p.copy_from_slice(&self.z);
         let mut rz = dot(&self.r, &self.z);
         let mut iterations = 0;
@@ -117,7 +117,7 @@ impl Cg {
                     ..StepStats::default()
                 };
             }
-            self.precondition(&mut preconditioner);
+            self.precondition(system, &mut preconditioner);
             let rz_new = dot(&self.r, &self.z);
             let beta = rz_new / rz;
             rz = rz_new;
@@ -132,8 +132,9 @@ impl Cg {
         }
     }
 
-    /// `z = P⁻¹ r`.
-    fn precondition(&mut self, preconditioner: &mut Preconditioner) {
+    /// `z = P⁻¹ r`, without its part along a held contact's normal (so every iterate stays
+    /// where the filter wants it).
+    fn precondition(&mut self, system: &System, preconditioner: &mut Preconditioner) {
         match preconditioner {
             Preconditioner::BlockJacobi => {
                 for ((z, p), r) in self.z.iter_mut().zip(&self.precond).zip(&self.r) {
@@ -142,5 +143,6 @@ impl Cg {
             }
             Preconditioner::Factor(factor) => factor.solve_factored(&self.r, &mut self.z),
         }
+        system.project(&mut self.z);
     }
 }

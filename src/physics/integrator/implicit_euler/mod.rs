@@ -57,12 +57,14 @@ mod cg;
 mod cholesky;
 #[cfg(test)]
 mod diagnosis;
+#[cfg(test)]
+mod holds_tests;
 mod supernodal_solve;
 mod system;
 #[cfg(test)]
 mod tests;
 
-use super::{fit, Dynamics, Integrator, Step, StepStats};
+use super::{fit, Dynamics, Hold, Integrator, Step, StepStats};
 use crate::math::{Real, Vec3};
 use crate::physics::{IntegratorParams, LinearSolver};
 use assembly::Topology;
@@ -106,6 +108,10 @@ pub struct ImplicitEuler {
     springs_factor: Cholesky,
     f: Vec<Vec3>,
     dv: Vec<Vec3>,
+    /// The contacts to hold in the next step ([`Integrator::holds`]), and scratch for their
+    /// impulses.
+    holds: Vec<Hold>,
+    product: Vec<Vec3>,
 }
 
 impl ImplicitEuler {
@@ -125,6 +131,8 @@ impl ImplicitEuler {
             springs_factor: Cholesky::new(Factored::SpringsSingle),
             f: Vec::new(),
             dv: Vec::new(),
+            holds: Vec::new(),
+            product: Vec::new(),
         }
     }
 }
@@ -142,9 +150,16 @@ impl Integrator for ImplicitEuler {
         self.interrupt = Some(flag);
     }
 
+    fn holds(&mut self) -> Option<&mut Vec<Hold>> {
+        Some(&mut self.holds)
+    }
+
     fn advance(&mut self, dynamics: &dyn Dynamics, Step { t, dt, x, v }: Step) -> StepStats {
         let n = fit(x.len(), [&mut self.f, &mut self.dv]);
         let Some(model) = dynamics.force_model() else {
+            for h in &mut self.holds {
+                (h.held, h.impulse) = (false, 0.0);
+            }
             dynamics.accelerations(t, x, v, &mut self.f);
             for i in 0..n {
                 v[i] += self.f[i] * dt;
@@ -179,7 +194,8 @@ impl ImplicitEuler {
     /// Solves `(M - h df/dv - h² df/dx) dv = h (f + h df/dx w) + extra` for `dv` (m/s, left in
     /// [`ImplicitEuler::dv`]), the Jacobians taken at positions `x` (m), with `f` (N) the forces
     /// already in `self.f` and `extra` (N s, per slot; ignored at fixed slots) added to the
-    /// right-hand side. Backward Euler is `h = dt`, `w = v`, no `extra`; [`super::Bdf2`] uses
+    /// right-hand side, and the contacts of [`Integrator::holds`] held (`dv . n = 0` there; each
+    /// one's impulse set). Backward Euler is `h = dt`, `w = v`, no `extra`; [`super::Bdf2`] uses
     /// it with its own `h`, `w` and `extra`.
     pub(super) fn solve_linearised(
         &mut self,
@@ -198,6 +214,17 @@ impl ImplicitEuler {
                 }
             }
         }
+        self.system.hold(&mut self.holds, &self.f, model.inv_mass());
+        let stats = self.solve(model);
+        // A direct solve leaves round-off along a held normal; CG's iterates have none.
+        self.system.project(&mut self.dv);
+        let (system, dv) = (&self.system, &self.dv);
+        system.impulses(model, dv, &mut self.product, &mut self.holds);
+        stats
+    }
+
+    /// Solves the built system by the chosen solver (see the module's documentation).
+    fn solve(&mut self, model: &crate::physics::ForceModel) -> StepStats {
         match self.solver {
             LinearSolver::Cg => self.solve_cg(model),
             LinearSolver::Cholesky => self.solve_direct(model),

@@ -5,7 +5,9 @@
 //! rank-one Gauss-Newton term per bending element (`U_e` stacks its four modes). The filtered
 //! matrix `A_f = S A S + (I - S)` is Baraff-Witkin's filter `S` (0 on fixed slots: pinned
 //! vertices and free slots) made invertible: the rows and columns of fixed slots are those of
-//! the identity and their right-hand side is 0, so `dv = 0` there. The module-level
+//! the identity and their right-hand side is 0, so `dv = 0` there. A held contact
+//! ([`crate::physics::Hold`]) is the same filter along one direction: `S = I - n nᵀ` on its
+//! slot, so `dv . n = 0` there and the rest of its row is solved. The module-level
 //! doc of `implicit_euler` gives the Jacobians; both solvers read this one system, CG through
 //! [`System::apply`] and the direct solver through its blocks.
 
@@ -15,7 +17,7 @@
 use crate::math::{Mat3, Real, Vec3};
 use crate::physics::chunks::{Chunk, Indexed, Part, Phase, Window};
 use crate::physics::forces::bend_modes;
-use crate::physics::{ForceModel, SpringMode};
+use crate::physics::{ForceModel, Hold, SpringMode};
 
 /// The assembled pieces of `S A S` and `S b` for one step; buffers are reused across steps.
 #[derive(Clone, Debug, Default)]
@@ -32,15 +34,33 @@ pub(super) struct System {
     pub(super) diag: Vec<Real>,
     /// Per slot: the 3x3 diagonal block of `A_f` (kg); the identity at a fixed slot.
     pub(super) diag_blocks: Vec<Mat3>,
-    /// Per slot: the right-hand side `dt (f + dt K v)` (N s); 0 at a fixed slot.
+    /// Per slot: the right-hand side `dt (f + dt K v)` (N s); 0 at a fixed slot, without its
+    /// part along `n` at a held slot.
     pub(super) b: Vec<Vec3>,
+    /// The contacts held in this step's system, each slot once.
+    held: Vec<Held>,
+    /// Per slot: the normal of its held contact, `None` where none is held.
+    pub(super) held_at: Vec<Option<Vec3>>,
+}
+
+/// One contact held in the system.
+#[derive(Clone, Copy, Debug)]
+struct Held {
+    /// Its index in the caller's list of holds.
+    hold: usize,
+    slot: usize,
+    /// The outward unit normal `n`.
+    normal: Vec3,
+    /// `n . b` of the unfiltered right-hand side (N s).
+    b_normal: Real,
 }
 
 impl System {
     /// Builds the system of the step of size `dt` (s) from positions `x` (m), velocities `v`
     /// (m/s) and the total forces `f` (N) at that state, the elements' terms by chunks on the
     /// threads of the pool (the same sums in the same order on any number of threads).
-    /// Allocation-free once the buffers have grown to the mesh.
+    /// Allocation-free once the buffers have grown to the mesh. No contact is held until
+    /// [`System::hold`].
     pub(super) fn build(
         &mut self,
         model: &ForceModel,
@@ -50,6 +70,11 @@ impl System {
         f: &[Vec3],
     ) {
         let n = x.len();
+        for h in &self.held {
+            self.held_at[h.slot] = None;
+        }
+        self.held.clear();
+        self.held_at.resize(n, None);
         let sw = model.switches();
         let terms = Terms::of(model, dt);
         let bending = sw.bending || sw.bending_damping;
@@ -100,6 +125,17 @@ impl System {
     /// threads of the pool (the same sums in the same order on any number of threads); `q` is 0
     /// at fixed slots. `model` must be the one the system was built from.
     pub(super) fn apply(&self, model: &ForceModel, p: &[Vec3], q: &mut [Vec3]) {
+        self.product(model, p, q);
+        for (qi, &wi) in q.iter_mut().zip(model.inv_mass()) {
+            if wi == 0.0 {
+                *qi = Vec3::zeros();
+            }
+        }
+        self.project(q);
+    }
+
+    /// `q = A p` (N s for `p` in m/s), unfiltered.
+    fn product(&self, model: &ForceModel, p: &[Vec3], q: &mut [Vec3]) {
         for i in 0..p.len() {
             q[i] = p[i] * self.diag[i];
         }
@@ -108,10 +144,65 @@ impl System {
                 self.apply_elements(model, chunk, p, window)
             });
         }
-        for (qi, &wi) in q.iter_mut().zip(model.inv_mass()) {
-            if wi == 0.0 {
-                *qi = Vec3::zeros();
+    }
+
+    /// Holds the contacts of `holds` whose vertex the forces `f` (N, at the step's start)
+    /// press into the obstacle (`f . n < 0`) on a free slot, each slot once (the first hold
+    /// listed): filters their slot's right-hand side and diagonal block with `S = I - n nᵀ`
+    /// (the block becomes `S D S + n nᵀ`) and marks them held; the others' `held` is false.
+    /// Every hold's impulse is reset to 0. Call after the
+    /// right-hand side is complete, before any solve.
+    pub(super) fn hold(&mut self, holds: &mut [Hold], f: &[Vec3], inv_mass: &[Real]) {
+        let n = self.b.len();
+        for (k, h) in holds.iter_mut().enumerate() {
+            h.impulse = 0.0;
+            h.held = false;
+            let (i, normal) = (h.slot, h.normal);
+            let free = i < n && inv_mass[i] != 0.0 && self.held_at[i].is_none();
+            if !free || f[i].dot(&normal) >= 0.0 {
+                continue;
             }
+            let nn = normal * normal.transpose();
+            let s = Mat3::identity() - nn;
+            let b_normal = normal.dot(&self.b[i]);
+            self.b[i] -= normal * b_normal;
+            self.diag_blocks[i] = s * self.diag_blocks[i] * s + nn;
+            self.held_at[i] = Some(normal);
+            h.held = true;
+            self.held.push(Held {
+                hold: k,
+                slot: i,
+                normal,
+                b_normal,
+            });
+        }
+    }
+
+    /// Removes from `z` (per slot) its part along the normal of every held slot.
+    pub(super) fn project(&self, z: &mut [Vec3]) {
+        for h in &self.held {
+            let zi = &mut z[h.slot];
+            *zi -= h.normal * h.normal.dot(zi);
+        }
+    }
+
+    /// Sets each held contact's impulse (N s) in `holds` (the list given to [`System::hold`])
+    /// from the solution `dv` (m/s): `n . (A dv - b)` of the unfiltered system at its slot.
+    /// `scratch` holds the product.
+    pub(super) fn impulses(
+        &self,
+        model: &ForceModel,
+        dv: &[Vec3],
+        scratch: &mut Vec<Vec3>,
+        holds: &mut [Hold],
+    ) {
+        if self.held.is_empty() {
+            return;
+        }
+        scratch.resize(dv.len(), Vec3::zeros());
+        self.product(model, dv, scratch);
+        for h in &self.held {
+            holds[h.hold].impulse = h.normal.dot(&scratch[h.slot]) - h.b_normal;
         }
     }
 

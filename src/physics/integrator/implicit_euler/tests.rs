@@ -14,13 +14,13 @@ use crate::physics::{
 };
 use crate::testing::{built, in_pool, random_state};
 
-const SOLVERS: [LinearSolver; 3] = [
+pub(super) const SOLVERS: [LinearSolver; 3] = [
     LinearSolver::Cg,
     LinearSolver::Cholesky,
     LinearSolver::PcgSprings,
 ];
 
-fn implicit(solver: LinearSolver) -> ImplicitEuler {
+pub(super) fn implicit(solver: LinearSolver) -> ImplicitEuler {
     ImplicitEuler::new(&IntegratorParams {
         solver,
         ..IntegratorParams::default()
