@@ -270,16 +270,18 @@ impl Simulation {
             .min(self.scene.time.duration - self.t)
             .max(Real::MIN_POSITIVE);
 
-        let clock = Instant::now();
-        self.x_start.clear();
-        self.x_start.extend_from_slice(&self.cloth.x);
         if self.integrator.holds().is_some() {
+            let clock = Instant::now();
             let face_contact = self.list_faces();
             let faces = face_contact.then_some(&self.faces.1[..]);
             let integrator = &mut *self.integrator;
             self.holding
                 .prepare(integrator, &self.obstacles, &self.cloth, faces);
+            self.stage_times.collide_s += secs(clock.elapsed());
         }
+        let clock = Instant::now();
+        self.x_start.clear();
+        self.x_start.extend_from_slice(&self.cloth.x);
         let cloth = &mut self.cloth;
         let integrator = self
             .integrator

@@ -387,8 +387,8 @@ pub fn case_compression(c: &Case, beta: Real) -> CaseResult {
 /// A cloth landing flat at 1 m/s on a plate of 0.4 m x 0.4 m x 2 mm, smaller than the cloth, so
 /// it drapes over the plate's edges (drag off): the contact takes the energy of the landing
 /// and the physics only dissipates after it; total energy never rises beyond the tolerance
-/// after 0.1 s. Contact is answered after the implicit solve, not in it, which fails this at
-/// large steps (docs/model-notes.md, "Known defects").
+/// after 0.1 s. Before contacts were held in the implicit solve, implicit Euler failed this
+/// by up to 39 J (docs/model-notes.md, "Contact in the implicit solve").
 pub fn case_draped_plate(c: &Case, beta: Real) -> CaseResult {
     let (strategy, integrator, sizes) = (c.strategy, c.integrator, c.sizes);
     let mut loaded = sized(

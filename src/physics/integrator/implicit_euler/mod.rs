@@ -19,7 +19,9 @@
 //!   monotonically once bending was removed (see `docs/integrators.md`).
 //! - Fixed slots (pinned vertices, free slots) are filtered constraints: their rows and columns
 //!   are those of the identity with a zero right-hand side (Baraff-Witkin's filter), so `dv = 0`
-//!   there.
+//!   there. A vertex resting on an obstacle ([`Integrator::holds`]) is filtered along its
+//!   surface normal `n` only (`S = I - n nᵀ` on its block, [`System::hold`]), so `dv . n = 0`
+//!   there; the impulse the obstacle gave is reported back for the friction that follows.
 //! - Solver (`integrator.solver`, [`LinearSolver`]): `pcg_springs` (the default) is conjugate
 //!   gradients preconditioned by the sparse Cholesky factor ([`cholesky`], single precision) of
 //!   `P = A_f + sum w s sᵀ`, the sum over the bending couplings `(k, l)` no spring shares (each
