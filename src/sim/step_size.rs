@@ -77,24 +77,20 @@ impl Simulation {
     }
 
     /// Refines the stability limit for this step (dynamic steps of explicit integrators only):
-    /// [`ITERATIONS_AFTER_EDIT`] power iterations after a mesh change, one every
-    /// [`STEPS_PER_ITERATION`] steps otherwise, warm-started.
+    /// [`ITERATIONS_AFTER_EDIT`] power iterations after a mesh change (from the warm start mixed
+    /// with a fresh one), one every [`STEPS_PER_ITERATION`] steps otherwise, warm-started.
     pub(super) fn update_stability_limit(&mut self) {
         if self.scene.time.mode == TimeMode::Fixed || self.integrator.stability_limit().is_none() {
             return;
         }
         let version = self.cloth.mesh.version();
-        let iterations = if self.stability.0 != version {
-            ITERATIONS_AFTER_EDIT
+        let (model, x) = (&self.cloth.model, &self.cloth.x);
+        if self.stability.0 != version {
+            self.stability.0 = version;
+            self.stability.1.update_after_edit(model, x);
         } else if self.steps % STEPS_PER_ITERATION == 0 {
-            1
-        } else {
-            return;
-        };
-        self.stability.0 = version;
-        self.stability
-            .1
-            .update(&self.cloth.model, &self.cloth.x, iterations);
+            self.stability.1.update(model, x, 1);
+        }
     }
 
     /// Fails when [`Simulation::step_estimate`] is above [`MAX_STEPS`] (or not a number): a run
