@@ -148,7 +148,8 @@ pub trait Integrator: Send {
 /// unchanged (`dv . n = 0`) and solves the rest of the system with that constraint in it.
 ///
 /// Released (not held; `impulse` 0) when the forces at the step's start pull it off the surface
-/// (`f . n >= 0`), when its slot is fixed, or when an earlier hold holds its slot.
+/// (`f . n >= 0`), when its slot is fixed, or when an earlier hold in the list holds its slot
+/// (an earlier hold that was released does not).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hold {
     /// The vertex's slot.
