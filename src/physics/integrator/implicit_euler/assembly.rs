@@ -226,6 +226,17 @@ impl Pattern {
                 *d = s * *d * s + n * n.transpose();
             }
         }
+        for c in 0..self.topology.slots {
+            let col = filter(self.slot_at[c]);
+            let range = self.block_ptr[c]..self.block_ptr[c + 1];
+            for (block, &r) in blocks[range.clone()].iter_mut().zip(&self.block_row[range]) {
+                let row = filter(self.slot_at[r]);
+                if row.is_some() || col.is_some() {
+                    let identity = Mat3::identity;
+                    *block = row.unwrap_or_else(identity) * *block * col.unwrap_or_else(identity);
+                }
+            }
+        }
         values.clear();
         values.resize(self.row_idx.len(), T::from_f64(0.0));
         for c in 0..self.topology.slots {
@@ -250,16 +261,8 @@ impl Pattern {
                     if fixed(row_slot) {
                         continue;
                     }
-                    let block = match (filter(row_slot), filter(slot)) {
-                        (None, None) => blocks[p],
-                        (r, c) => {
-                            r.unwrap_or_else(Mat3::identity)
-                                * blocks[p]
-                                * c.unwrap_or_else(Mat3::identity)
-                        }
-                    };
                     for i in 0..3 {
-                        values[start + 3 - k + 3 * q + i] = T::from_f64(block[(i, k)]);
+                        values[start + 3 - k + 3 * q + i] = T::from_f64(blocks[p][(i, k)]);
                     }
                 }
             }

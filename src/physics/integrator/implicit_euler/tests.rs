@@ -105,7 +105,7 @@ fn solved_stiff_sheet(springs: SpringMode) -> (ForceModel, System, Vec<Vec3>) {
     (model, system, direct)
 }
 
-fn norm(a: &[Vec3]) -> Real {
+pub(super) fn norm(a: &[Vec3]) -> Real {
     a.iter().map(|p| p.norm_squared()).sum::<Real>().sqrt()
 }
 
