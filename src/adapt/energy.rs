@@ -1,6 +1,6 @@
 //! The energy law of an edit: an edit may not raise the cloth's total energy (kinetic, gravity,
-//! stretch, bending). Used by `remesh` (issue 15, item 7; docs/model-notes.md, "Energy of a
-//! re-meshing").
+//! stretch, bending). Used by every adaptive strategy (issue 15, item 7; docs/model-notes.md,
+//! "Energy of a re-meshing" and "Energy of an edit in every strategy").
 //!
 //! A re-meshed region can hold more energy than the region it replaces at the same positions: new
 //! vertices interpolated on flat old triangles stretch the new springs around them, and a

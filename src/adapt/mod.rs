@@ -7,9 +7,10 @@
 //! ([`AdaptContext::edit_target`], a [`ClothTarget`] over [`apply_edit_with`]), which checks
 //! conformity, transfers state to new vertices, recomputes touched masses, restores the region's
 //! linear momentum and records the kinetic-energy change. Spring and bending arrays and `dt` are
-//! rebuilt by the simulation before the next step. A strategy may apply its edits under the
-//! energy law instead ([`EditTarget::apply_conserving`], module `energy`: new vertices relaxed,
-//! no edit raises the total energy); `remesh` does.
+//! rebuilt by the simulation before the next step. The strategies apply their edits under the
+//! energy law ([`EditTarget::apply_conserving`], module `energy`: new vertices relaxed, no edit
+//! raises the total energy); plain [`EditTarget::apply`] serves edits that only restore what the
+//! cloth had (bisect48's rollback of a refused cascade).
 
 pub mod criteria;
 mod crossing_check;

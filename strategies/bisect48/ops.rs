@@ -11,19 +11,23 @@
 //!   block exists; the blocks are then bisected from the end of the chain back to `t`: bisecting
 //!   the block of `t_{i+1}` leaves a child across `t_i`'s refinement edge whose refinement edge it
 //!   is, so `t_i` then has a block. The whole chain is planned first (levels against the maximum,
-//!   cycles), so a refused cascade leaves the mesh untouched; an edit refused midway (a bug) is
-//!   rolled back by merging the vertices already inserted, newest first.
+//!   cycles), so a cascade refused by its plan leaves the mesh untouched; an edit refused midway
+//!   (its faces would cross the cloth, it would add energy its region's motion cannot pay, or a
+//!   bug) is rolled back by merging the vertices already inserted, newest first.
 //! - **`merge(p)`**: `p` was inserted by a bisection, is not pinned, and is the newest vertex of
 //!   all its faces, 4 inside or 2 on the border (its star is exactly the children of one block).
 //!   One edit removes `p` and restores the parents `a-b-o` for each opposite vertex `o`, with
 //!   newest vertex `o` and the children's level minus one.
 //!
 //! Edits go through an [`EditTarget`]: the bare mesh ([`Mesh::replace`]) for topology tests, or a
-//! cloth through the state-transfer service (`adapt::apply_edit_with`) in the simulation.
+//! cloth through the state-transfer service in the simulation, bisections under the energy law
+//! (`adapt::apply_edit_conserving`) and merges as they come (`adapt::apply_edit_with`): a merge
+//! only restores springs the cloth had, so a rollback is never refused for its energy; a
+//! simplification pass asks [`Labels::merge_conserving`] instead.
 
 use super::labels::{FaceLabel, LabelMismatch, Labels, SplitOrigin};
-use crate::adapt::EditTarget;
-use crate::math::signed_area;
+use crate::adapt::{ConservingError, EditTarget};
+use crate::math::{signed_area, Real};
 use crate::mesh::{
     EdgeKey, Edit, EditError, EditRecord, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef,
 };
@@ -63,15 +67,36 @@ pub enum OpError {
     /// An edit was refused by the mesh (earlier edits of the cascade were rolled back).
     #[error("edit refused: {0}")]
     Edit(#[from] EditError),
+    /// An edit would add energy that its region's relative motion cannot pay (the energy law,
+    /// docs/model-notes.md, "Energy of a re-meshing"; earlier edits of the cascade were rolled
+    /// back).
+    #[error(
+        "the edit would add {gain:.3e} J (its region's relative motion holds {payable:.3e} J)"
+    )]
+    AddsEnergy {
+        /// Total energy gained (J).
+        gain: Real,
+        /// Relative kinetic energy of the touched vertices after the edit (J).
+        payable: Real,
+    },
     /// An edit was refused and rolling back the earlier ones failed too (the mesh is conforming
     /// but partly refined).
-    #[error("edit refused ({edit}); rollback failed: {rollback}")]
+    #[error("edit refused ({refusal}); rollback failed: {rollback}")]
     RollbackFailed {
         /// The first refusal.
-        edit: EditError,
+        refusal: Box<OpError>,
         /// Why the rollback failed.
         rollback: Box<OpError>,
     },
+}
+
+impl From<ConservingError> for OpError {
+    fn from(e: ConservingError) -> Self {
+        match e {
+            ConservingError::Edit(e) => OpError::Edit(e),
+            ConservingError::AddsEnergy { gain, payable } => OpError::AddsEnergy { gain, payable },
+        }
+    }
 }
 
 /// What `bisect(t)` changed: the block bisections in the order applied (the cascade first, the
@@ -100,13 +125,7 @@ impl Labels {
         for &f in chain.iter().rev() {
             match self.bisect_block(target, f) {
                 Ok(record) => done.steps.push(record),
-                Err(OpError::Edit(edit)) => {
-                    return Err(self.roll_back(target, &done, edit));
-                }
-                Err(other) => {
-                    let edit = EditError::NotATiling(other.to_string());
-                    return Err(self.roll_back(target, &done, edit));
-                }
+                Err(refusal) => return Err(self.roll_back(target, &done, refusal)),
             }
         }
         Ok(done)
@@ -195,7 +214,7 @@ impl Labels {
             levels.extend([gl + 1; 2]);
         }
         let ends = [mesh.key(a), mesh.key(b)];
-        let record = target.apply(&edit)?;
+        let record = target.apply_conserving(&edit)?;
         let mesh = target.mesh();
         let mid = record.added_vertices[0].0;
         let labels: Vec<FaceLabel> = levels
@@ -213,23 +232,24 @@ impl Labels {
         Ok(record)
     }
 
-    /// Undoes the applied steps of a cascade, newest first, and returns the error to report.
+    /// Undoes the applied steps of a cascade, newest first, and returns the error to report:
+    /// `refusal`, or [`OpError::RollbackFailed`].
     fn roll_back(
         &mut self,
         target: &mut dyn EditTarget,
         done: &Bisection,
-        edit: EditError,
+        refusal: OpError,
     ) -> OpError {
         for step in done.steps.iter().rev() {
             let v = step.added_vertices[0].0;
             if let Err(e) = self.merge(target, v) {
                 return OpError::RollbackFailed {
-                    edit,
+                    refusal: Box::new(refusal),
                     rollback: Box::new(e),
                 };
             }
         }
-        OpError::Edit(edit)
+        refusal
     }
 
     /// Why `p` cannot be merged, or the parents its merge restores: each `[a, b, o]`
@@ -307,11 +327,31 @@ impl Labels {
     }
 
     /// Merges vertex `p`: fuses the children of the bisection that inserted it back into their
-    /// parents (MODEL.md §8.4 rule 5). On error the mesh and the labels are unchanged.
+    /// parents (MODEL.md §8.4 rule 5). On error the mesh and the labels are unchanged. Not under
+    /// the energy law: a cascade's rollback must not be refused.
     pub fn merge(
         &mut self,
         target: &mut dyn EditTarget,
         p: VertexId,
+    ) -> Result<EditRecord, OpError> {
+        self.merge_with(target, p, false)
+    }
+
+    /// [`Labels::merge`] under the energy law: refused with [`OpError::AddsEnergy`] when the
+    /// merged faces would hold more energy than their region's relative motion can pay.
+    pub fn merge_conserving(
+        &mut self,
+        target: &mut dyn EditTarget,
+        p: VertexId,
+    ) -> Result<EditRecord, OpError> {
+        self.merge_with(target, p, true)
+    }
+
+    fn merge_with(
+        &mut self,
+        target: &mut dyn EditTarget,
+        p: VertexId,
+        conserving: bool,
     ) -> Result<EditRecord, OpError> {
         let mesh = target.mesh();
         let parents = self.merge_plan(mesh, p)?;
@@ -320,7 +360,11 @@ impl Labels {
             new_vertices: Vec::new(),
             add: parents.iter().map(|(f, _)| f.map(VertexRef::Old)).collect(),
         };
-        let record = target.apply(&edit)?;
+        let record = if conserving {
+            target.apply_conserving(&edit)?
+        } else {
+            target.apply(&edit)?
+        };
         let labels: Vec<FaceLabel> = parents
             .iter()
             .map(|&([_, _, o], level)| FaceLabel { newest: o, level })

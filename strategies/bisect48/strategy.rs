@@ -141,8 +141,13 @@ impl Adaptivity for Bisect48 {
                             self.born[i] = ctx.time;
                         }
                     }
-                    // At the depth limit, or refused because the new faces would cross the cloth.
-                    Err(OpError::MaxLevel { .. } | OpError::Edit(EditError::CrossesCloth)) => {}
+                    // At the depth limit, or refused because the new faces would cross the cloth
+                    // or add energy the region's motion cannot pay.
+                    Err(
+                        OpError::MaxLevel { .. }
+                        | OpError::Edit(EditError::CrossesCloth)
+                        | OpError::AddsEnergy { .. },
+                    ) => {}
                     Err(other) => return Err(Self::error(other)),
                 }
             }
@@ -171,9 +176,11 @@ impl Adaptivity for Bisect48 {
             if !all_selected {
                 continue;
             }
-            match labels.merge(&mut target, p) {
-                // Refused: the merged faces would cross the cloth.
-                Ok(_) | Err(OpError::Edit(EditError::CrossesCloth)) => {}
+            match labels.merge_conserving(&mut target, p) {
+                // Refused: the merged faces would cross the cloth, or add energy the region's
+                // motion cannot pay.
+                Ok(_)
+                | Err(OpError::Edit(EditError::CrossesCloth) | OpError::AddsEnergy { .. }) => {}
                 Err(other) => return Err(Self::error(other)),
             }
         }

@@ -2,7 +2,7 @@
 //! the helpers shared with the property tests (`proptests.rs`): the invariant checker and edit
 //! targets that check or refuse edits.
 use super::*;
-use crate::adapt::EditTarget;
+use crate::adapt::{ConservingError, EditTarget};
 use crate::math::Real;
 use crate::mesh::{union_jack, Edit, EditError, EditRecord, FaceId, Mesh, VertexId};
 use proptest::prelude::*;
@@ -129,6 +129,8 @@ struct Refusing<'a> {
     mesh: &'a mut Mesh,
     fail_at: usize,
     count: usize,
+    /// Refuse as the energy law does (an edit asked under it), not as the mesh does.
+    energy: bool,
 }
 
 impl EditTarget for Refusing<'_> {
@@ -138,10 +140,21 @@ impl EditTarget for Refusing<'_> {
 
     fn apply(&mut self, edit: &Edit) -> Result<EditRecord, EditError> {
         self.count += 1;
-        if self.count - 1 == self.fail_at {
+        if !self.energy && self.count - 1 == self.fail_at {
             return Err(EditError::NotATiling("refused on purpose".into()));
         }
         self.mesh.replace(edit)
+    }
+
+    fn apply_conserving(&mut self, edit: &Edit) -> Result<EditRecord, ConservingError> {
+        if self.energy && self.count == self.fail_at {
+            self.count += 1;
+            return Err(ConservingError::AddsEnergy {
+                gain: 1.0,
+                payable: 0.0,
+            });
+        }
+        Ok(self.apply(edit)?)
     }
 }
 
@@ -302,7 +315,7 @@ fn max_level_refusal_leaves_mesh_and_labels_identical() {
 }
 
 #[test]
-fn refused_edit_midway_through_a_cascade_is_rolled_back() {
+fn edit_refused_midway_through_a_cascade_by_the_mesh_or_the_energy_law_is_rolled_back() {
     let mut m = grid(4, 4, 1.0);
     let mut l = Labels::new(&m, 8);
     // Make a face whose bisection cascades through at least two blocks.
@@ -318,7 +331,8 @@ fn refused_edit_midway_through_a_cascade_is_rolled_back() {
     }
     let plan = l.plan_cascade(&m, t).unwrap();
     assert!(plan.len() >= 2, "{plan:?}");
-    for fail_at in 1..plan.len() {
+    let refusals = (1..plan.len()).flat_map(|k| [(k, false), (k, true)]);
+    for (fail_at, energy) in refusals {
         let (faces0, verts0) = (face_set(&m), vertex_set(&m));
         let labels_of = |m: &Mesh, l: &Labels| -> BTreeSet<([VertexId; 3], VertexId, u32)> {
             m.faces()
@@ -333,9 +347,14 @@ fn refused_edit_midway_through_a_cascade_is_rolled_back() {
             mesh: &mut m,
             fail_at,
             count: 0,
+            energy,
         };
         let err = l.bisect(&mut target, t).unwrap_err();
-        assert!(matches!(err, OpError::Edit(_)), "{err}");
+        if energy {
+            assert!(matches!(err, OpError::AddsEnergy { .. }), "{err}");
+        } else {
+            assert!(matches!(err, OpError::Edit(_)), "{err}");
+        }
         // Same vertices and faces (slots may differ), labels current and equal per face.
         assert_eq!(face_set(&m), faces0);
         assert_eq!(vertex_set(&m), verts0);

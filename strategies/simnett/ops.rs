@@ -3,14 +3,16 @@
 //! the edge and expressed as ONE [`Edit`] that replaces their current faces by their new ones.
 //!
 //! Each operation checks its preconditions first (returning an [`OpError`] naming the violated
-//! one), builds the edit, hands it to a [`EditTarget`] (the bare mesh for topology tests, or the
-//! cloth through [`crate::adapt::apply_edit`] for the physics), and commits the hierarchy change
-//! only when the target applied it: on any error neither the mesh nor the hierarchy changes.
+//! one), builds the edit, hands it to a [`EditTarget`] under the energy law (the bare mesh for
+//! topology tests, or the cloth through [`crate::adapt::apply_edit_conserving`] for the physics:
+//! an edit that would add energy its region's motion cannot pay is refused), and commits the
+//! hierarchy change only when the target applied it: on any error neither the mesh nor the
+//! hierarchy changes.
 //! [`Hierarchy::split_edge_forced`] is the `force_completion` option: a sequence of elementary
 //! splits that first completes the state-1-6 parent triangles blocking the wanted edge.
 
 use super::hierarchy::{bits_of, state_of, EdgeNode, EdgeRole, Hierarchy, TriKey, TriNode};
-use crate::adapt::EditTarget;
+use crate::adapt::{ConservingError, EditTarget};
 use crate::math::Real;
 use crate::mesh::{
     EdgeKey, Edit, EditError, EditRecord, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef,
@@ -112,9 +114,30 @@ pub enum OpError {
         /// The child's state.
         state: u8,
     },
-    /// The mesh refused the edit (a bug: the hierarchy and the mesh disagree).
+    /// The mesh refused the edit: the new faces would cross the cloth, or (a bug) the hierarchy
+    /// and the mesh disagree.
     #[error("the mesh refused the edit: {0}")]
     Edit(#[from] EditError),
+    /// The edit would add energy that its region's relative motion cannot pay (the energy law,
+    /// docs/model-notes.md, "Energy of a re-meshing").
+    #[error(
+        "the edit would add {gain:.3e} J (its region's relative motion holds {payable:.3e} J)"
+    )]
+    AddsEnergy {
+        /// Total energy gained (J).
+        gain: Real,
+        /// Relative kinetic energy of the touched vertices after the edit (J).
+        payable: Real,
+    },
+}
+
+impl From<ConservingError> for OpError {
+    fn from(e: ConservingError) -> Self {
+        match e {
+            ConservingError::Edit(e) => OpError::Edit(e),
+            ConservingError::AddsEnergy { gain, payable } => OpError::AddsEnergy { gain, payable },
+        }
+    }
 }
 
 impl Hierarchy {
@@ -189,7 +212,7 @@ impl Hierarchy {
             edit.add.extend(faces.iter().map(|f| to_refs(*f)));
             plan.push((tk, t.state, state_of(bits), faces.len()));
         }
-        let record = target.apply(&edit)?;
+        let record = target.apply_conserving(&edit)?;
         let mid = record.added_vertices[0].0;
         for f in &edit.remove {
             self.owner.remove(f);
@@ -274,7 +297,7 @@ impl Hierarchy {
             edit.add.extend(faces.iter().map(|f| to_refs(*f)));
             plan.push((tk, t.state, state_of(bits), faces.len()));
         }
-        let record = target.apply(&edit)?;
+        let record = target.apply_conserving(&edit)?;
         for f in &edit.remove {
             self.owner.remove(f);
         }

@@ -131,8 +131,9 @@ impl Adaptivity for Simnett {
                     }
                 }
                 Err(OpError::Edit(err)) if err != EditError::CrossesCloth => return Err(err.into()),
-                // A precondition: blocked by the faithful rule, at the maximum depth, already
-                // split by an earlier operation of this call, or not a hierarchy edge.
+                // Refused by the physics (crossing, energy), or a precondition: blocked by the
+                // faithful rule, at the maximum depth, already split by an earlier operation of
+                // this call, or not a hierarchy edge.
                 Err(_) => {}
             }
         }

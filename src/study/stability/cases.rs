@@ -439,7 +439,7 @@ pub fn case_draped_plate(c: &Case, beta: Real) -> CaseResult {
 /// The long run of `hanging` from a 5x5 start with the sizing field down to `h_min` = 3 cm: the
 /// adaptive strategies refine and coarsen a settling cloth for the whole run, and the total
 /// energy must never rise beyond the tolerance after 0.1 s (edits that add elastic energy fail
-/// it: docs/model-notes.md, "Known defects"). `static` keeps its 5x5 grid.
+/// it: docs/model-notes.md, "Energy of an edit in every strategy"). `static` keeps its 5x5 grid.
 pub fn case_sizing_long_run(c: &Case, beta: Real) -> CaseResult {
     let mut loaded = sized(
         "hanging",
