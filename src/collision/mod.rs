@@ -42,6 +42,8 @@ mod motion;
 mod motion_tests;
 mod params;
 mod resting;
+#[cfg(test)]
+mod resting_tests;
 mod segment_query;
 mod self_contact;
 mod shape;

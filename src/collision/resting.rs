@@ -13,6 +13,15 @@ use parry3d_f64::math::Vector;
 /// to round-off.
 pub const LEAVING_SPEED: Real = 1e-6;
 
+/// A face contact holds its vertices only where the obstacle comes closer to the face than the
+/// vertices' own distances, interpolated at the contact point, by more than this many collision
+/// margins: an edge or a corner poking the face between its vertices, which no vertex contact
+/// sees. Where the surface is smooth at the face's scale the vertices' own contacts hold the
+/// cloth; holding every vertex of such a face along one normal over-constrains it (the sphere's
+/// finest implicit grid moved away from the reference: docs/model-notes.md, "Contact in the
+/// implicit solve").
+pub const FACE_HOLD_EXCESS: Real = 1.0;
+
 impl Obstacles {
     /// Calls `found(slot, obstacle, normal)` for every free vertex (`inv_mass > 0`) resting on
     /// an obstacle at positions `x` (m) and velocities `v` (m/s), not leaving it faster than
@@ -20,8 +29,9 @@ impl Obstacles {
     /// collision margins of a surface (inside included), with the nearest obstacle's index and
     /// its outward unit normal at the closest point; then, with `faces` (vertex slots; face
     /// contact), each vertex of positive barycentric weight at the contact point of a face
-    /// that close to an obstacle but the ground, with that contact's normal (a slot may be
-    /// found more than once). Obstacles stand where the last [`Obstacles::set_step`] put them
+    /// that close to an obstacle but the ground, with that contact's normal, when the contact is
+    /// closer than the vertices' interpolated distances by more than [`FACE_HOLD_EXCESS`]
+    /// margins (a slot may be found more than once). Obstacles stand where the last [`Obstacles::set_step`] put them
     /// (the step's start).
     pub fn resting(
         &self,
@@ -62,6 +72,10 @@ impl Obstacles {
                     continue;
                 };
                 let w = barycentric(c.point, tri);
+                let poked = c.distance + FACE_HOLD_EXCESS * self.margin;
+                if interpolated_distance(ob, tri, w, poked) < poked {
+                    continue; // the vertices' own contacts hold this face
+                }
                 for j in 0..3 {
                     if w[j] > 0.0 && resting(ob, f[j], c.point, c.normal) {
                         found(f[j], k, to_na(c.normal));
@@ -96,4 +110,23 @@ impl Obstacles {
         let mu = 0.5 * (cloth_mu + ob.friction);
         to_na(carried + along + apply_friction(relative - along, mu, dv_n))
     }
+}
+
+/// `sum w_k d_k` over the triangle `tri`'s vertices, `d_k` their signed distances (m) to `ob`,
+/// exact when it is below `limit` (m); otherwise some value at least `limit`. A vertex whose
+/// term alone would reach `limit` is not measured further (a bounded query: cheap on a mesh),
+/// the other vertices being taken as outside.
+fn interpolated_distance(ob: &Solid, tri: [Vector; 3], w: [Real; 3], limit: Real) -> Real {
+    let mut sum = 0.0;
+    for k in 0..3 {
+        if w[k] <= 0.0 {
+            continue;
+        }
+        let reach = limit.max(0.0) / w[k];
+        match ob.project_near(tri[k], reach) {
+            Some(p) => sum += w[k] * p.distance,
+            None => return limit,
+        }
+    }
+    sum
 }
