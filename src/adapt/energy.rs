@@ -75,22 +75,37 @@ impl EnergyTrial {
     }
 }
 
+/// The energy law's refusal of an edit: it would add energy its region's relative motion
+/// cannot pay. Every strategy's error type holds it as is.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[error("the edit would add {gain:.3e} J (its region's relative motion holds {payable:.3e} J)")]
+pub struct EnergyRefusal {
+    /// Total energy gained (J).
+    pub gain: Real,
+    /// Relative kinetic energy of the touched vertices after the edit (J).
+    pub payable: Real,
+}
+
 /// Why [`apply_edit_conserving`] did not apply an edit; the cloth is unchanged.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum ConservingError {
     /// The mesh refused the edit.
     #[error("edit refused: {0}")]
     Edit(#[from] EditError),
-    /// The edit would add energy its region's relative motion cannot pay.
-    #[error(
-        "the edit would add {gain:.3e} J (its region's relative motion holds {payable:.3e} J)"
-    )]
-    AddsEnergy {
-        /// Total energy gained (J).
-        gain: Real,
-        /// Relative kinetic energy of the touched vertices after the edit (J).
-        payable: Real,
-    },
+    /// The energy law refused the edit.
+    #[error(transparent)]
+    AddsEnergy(#[from] EnergyRefusal),
+}
+
+impl ConservingError {
+    /// The refusal as a strategy's error `E`, which holds the mesh's refusals and the energy
+    /// law's alike.
+    pub fn into_error<E: From<EditError> + From<EnergyRefusal>>(self) -> E {
+        match self {
+            ConservingError::Edit(e) => e.into(),
+            ConservingError::AddsEnergy(r) => r.into(),
+        }
+    }
 }
 
 /// Measures `edit` on a patch of `cloth`: the faces having a vertex that the edit touches or
@@ -211,10 +226,11 @@ pub fn apply_edit_conserving(
 ) -> Result<Transfer, ConservingError> {
     let trial = energy_trial(cloth, edit, options)?;
     if !trial.allowed() {
-        return Err(ConservingError::AddsEnergy {
+        return Err(EnergyRefusal {
             gain: trial.gain,
             payable: trial.payable,
-        });
+        }
+        .into());
     }
     let positions: Vec<Vec3> = trial
         .positions

@@ -10,8 +10,10 @@
 //! rebuilt by the simulation before the next step. The strategies apply their edits under the
 //! energy law ([`EditTarget::apply_conserving`], module `energy`: new vertices relaxed, no edit
 //! raises the total energy); plain [`EditTarget::apply`] serves edits that only restore what the
-//! cloth had (bisect48's rollback of a refused cascade).
+//! cloth had (bisect48's rollback of a refused cascade). A refused edit's edges wait before they
+//! are tried again ([`RefusalMemory`], module `backoff`), in every strategy alike.
 
+mod backoff;
 pub mod criteria;
 mod crossing_check;
 mod energy;
@@ -23,10 +25,12 @@ pub mod sizing;
 mod target;
 mod transfer;
 
+pub use backoff::{Cause, Direction, RefusalMemory, MAX_WAIT};
 pub use criteria::{select, EdgeInfo, NoHistory, RefineReason, Selection};
 pub use crossing_check::{edit_crosses, CrossingGuard};
 pub use energy::{
-    apply_edit_conserving, energy_trial, relative_kinetic_energy, ConservingError, EnergyTrial,
+    apply_edit_conserving, energy_trial, relative_kinetic_energy, ConservingError, EnergyRefusal,
+    EnergyTrial,
 };
 pub use params::{AdaptParams, Criteria};
 pub use relax::relax;

@@ -26,8 +26,8 @@
 //! simplification pass asks [`Labels::merge_conserving`] instead.
 
 use super::labels::{FaceLabel, LabelMismatch, Labels, SplitOrigin};
-use crate::adapt::{ConservingError, EditTarget};
-use crate::math::{signed_area, Real};
+use crate::adapt::{ConservingError, EditTarget, EnergyRefusal};
+use crate::math::signed_area;
 use crate::mesh::{
     EdgeKey, Edit, EditError, EditRecord, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef,
 };
@@ -70,15 +70,8 @@ pub enum OpError {
     /// An edit would add energy that its region's relative motion cannot pay (the energy law,
     /// docs/model-notes.md, "Energy of a re-meshing"; earlier edits of the cascade were rolled
     /// back).
-    #[error(
-        "the edit would add {gain:.3e} J (its region's relative motion holds {payable:.3e} J)"
-    )]
-    AddsEnergy {
-        /// Total energy gained (J).
-        gain: Real,
-        /// Relative kinetic energy of the touched vertices after the edit (J).
-        payable: Real,
-    },
+    #[error(transparent)]
+    AddsEnergy(#[from] EnergyRefusal),
     /// An edit was refused and rolling back the earlier ones failed too (the mesh is conforming
     /// but partly refined).
     #[error("edit refused ({refusal}); rollback failed: {rollback}")]
@@ -88,15 +81,6 @@ pub enum OpError {
         /// Why the rollback failed.
         rollback: Box<OpError>,
     },
-}
-
-impl From<ConservingError> for OpError {
-    fn from(e: ConservingError) -> Self {
-        match e {
-            ConservingError::Edit(e) => OpError::Edit(e),
-            ConservingError::AddsEnergy { gain, payable } => OpError::AddsEnergy { gain, payable },
-        }
-    }
 }
 
 /// What `bisect(t)` changed: the block bisections in the order applied (the cascade first, the
@@ -214,7 +198,9 @@ impl Labels {
             levels.extend([gl + 1; 2]);
         }
         let ends = [mesh.key(a), mesh.key(b)];
-        let record = target.apply_conserving(&edit)?;
+        let record = target
+            .apply_conserving(&edit)
+            .map_err(ConservingError::into_error::<OpError>)?;
         let mesh = target.mesh();
         let mid = record.added_vertices[0].0;
         let labels: Vec<FaceLabel> = levels
@@ -361,7 +347,9 @@ impl Labels {
             add: parents.iter().map(|(f, _)| f.map(VertexRef::Old)).collect(),
         };
         let record = if conserving {
-            target.apply_conserving(&edit)?
+            target
+                .apply_conserving(&edit)
+                .map_err(ConservingError::into_error::<OpError>)?
         } else {
             target.apply(&edit)?
         };

@@ -15,6 +15,9 @@
 //! 4. **Simplify**: every vertex inserted by bisection, in slot order, is merged when it is
 //!    mergeable (rule 5) and every edge around it is selected for simplification.
 //!
+//! A bisection the energy law refused makes its selected edge wait, a merge it refused the edges
+//! around the vertex, before they are tried again (the shared back-off, [`RefusalMemory`]).
+//!
 //! Hysteresis: the criteria's refine and simplify thresholds differ (`cos_refine` vs
 //! `cos_simplify`, compression refines and never simplifies), a vertex is merged only when all of
 //! its edges are simplify-selected and at least `t_simplify` old, and refined edges are never
@@ -24,7 +27,8 @@
 use super::labels::Labels;
 use super::ops::OpError;
 use crate::adapt::{
-    select, AdaptContext, AdaptError, AdaptParams, AdaptReport, Adaptivity, EdgeInfo,
+    select, AdaptContext, AdaptError, AdaptParams, AdaptReport, Adaptivity, Cause, Direction,
+    EdgeInfo, EnergyRefusal, RefusalMemory,
 };
 use crate::cloth::Cloth;
 use crate::math::Real;
@@ -36,6 +40,9 @@ pub struct Bisect48 {
     labels: Option<Labels>,
     /// Simulated time (s) each vertex slot's vertex was inserted; `-inf` for initial vertices.
     born: Vec<Real>,
+    /// Edges whose bisection, or vertices whose merge (by the edges around them), the energy law
+    /// refused, waiting before they are tried again.
+    pub(super) refusals: RefusalMemory,
 }
 
 /// Edge ages seen by the criteria: time since the youngest end of the edge was inserted.
@@ -98,13 +105,15 @@ impl Adaptivity for Bisect48 {
     fn adapt(&mut self, cloth: &mut Cloth, ctx: &AdaptContext) -> Result<AdaptReport, AdaptError> {
         let spec = ctx.params;
         self.prepare(&cloth.mesh, spec)?;
+        let now = ctx.time;
+        self.refusals.prune(&cloth.mesh, now);
         let selection = select(
             cloth,
             ctx.obstacles,
             spec,
             &Ages {
                 born: &self.born,
-                now: ctx.time,
+                now,
             },
         );
         let Some(labels) = self.labels.as_mut() else {
@@ -116,6 +125,12 @@ impl Adaptivity for Bisect48 {
         for &(e, _) in &selection.refine {
             if ctx.interrupted() {
                 return Ok(target.report);
+            }
+            if self
+                .refusals
+                .waiting(target.cloth, e, now, Direction::Refine)
+            {
+                continue;
             }
             let mesh = &target.cloth.mesh;
             let Some(faces) = mesh.edge(e.0, e.1) else {
@@ -138,16 +153,20 @@ impl Adaptivity for Bisect48 {
                             if self.born.len() <= i {
                                 self.born.resize(i + 1, Real::NEG_INFINITY);
                             }
-                            self.born[i] = ctx.time;
+                            self.born[i] = now;
                         }
                     }
-                    // At the depth limit, or refused because the new faces would cross the cloth
-                    // or add energy the region's motion cannot pay.
-                    Err(
-                        OpError::MaxLevel { .. }
-                        | OpError::Edit(EditError::CrossesCloth)
-                        | OpError::AddsEnergy { .. },
-                    ) => {}
+                    // Refused because the new faces would add energy the region's motion cannot
+                    // pay: the edge waits.
+                    Err(OpError::AddsEnergy(EnergyRefusal { gain, .. })) => {
+                        let cause = Cause::Energy { gain };
+                        let mesh = &target.cloth.mesh;
+                        self.refusals
+                            .remember(mesh, &[e], now, cause, spec.t_simplify);
+                        break;
+                    }
+                    // At the depth limit, or refused because the new faces would cross the cloth.
+                    Err(OpError::MaxLevel { .. } | OpError::Edit(EditError::CrossesCloth)) => {}
                     Err(other) => return Err(Self::error(other)),
                 }
             }
@@ -169,18 +188,32 @@ impl Adaptivity for Bisect48 {
             if !mesh.is_vertex(p) || !labels.is_mergeable(mesh, p) {
                 continue;
             }
-            let all_selected = mesh
+            let star: Vec<EdgeKey> = mesh
                 .neighbours(p)
                 .into_iter()
-                .all(|w| simplify.binary_search(&EdgeKey::new(p, w)).is_ok());
-            if !all_selected {
+                .map(|w| EdgeKey::new(p, w))
+                .collect();
+            let all_selected = star.iter().all(|e| simplify.binary_search(e).is_ok());
+            let waiting = || {
+                star.iter().any(|&e| {
+                    self.refusals
+                        .waiting(target.cloth, e, now, Direction::Simplify)
+                })
+            };
+            if !all_selected || waiting() {
                 continue;
             }
             match labels.merge_conserving(&mut target, p) {
-                // Refused: the merged faces would cross the cloth, or add energy the region's
-                // motion cannot pay.
-                Ok(_)
-                | Err(OpError::Edit(EditError::CrossesCloth) | OpError::AddsEnergy { .. }) => {}
+                // Refused: the merged faces would cross the cloth.
+                Ok(_) | Err(OpError::Edit(EditError::CrossesCloth)) => {}
+                // Refused: the merge would add energy the region's motion cannot pay; the edges
+                // around the vertex wait.
+                Err(OpError::AddsEnergy(EnergyRefusal { gain, .. })) => {
+                    let cause = Cause::Energy { gain };
+                    let mesh = &target.cloth.mesh;
+                    self.refusals
+                        .remember(mesh, &star, now, cause, spec.t_simplify);
+                }
                 Err(other) => return Err(Self::error(other)),
             }
         }

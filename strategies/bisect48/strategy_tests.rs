@@ -86,3 +86,31 @@ fn strategy_is_built_by_name() {
     let s = crate::strategies::make_strategy("bisect48").unwrap();
     assert_eq!(s.name(), "bisect48");
 }
+
+/// Edges the energy law refused wait before they are tried again: a fold selected for
+/// refinement is not bisected within the wait, and is bisected after it.
+#[test]
+fn edges_refused_by_the_energy_law_are_not_bisected_again_within_their_wait() {
+    use crate::adapt::{Cause, RefusalMemory};
+    use crate::mesh::EdgeKey;
+    let obstacles = testing::obstacles(&[]);
+    let spec = AdaptParams::default();
+    let mut cloth = flat_cloth(5, Vec3::zeros());
+    fold(&mut cloth);
+    let mut s = Bisect48::new();
+    let edges: Vec<EdgeKey> = cloth.mesh.edges().map(|(e, _)| e).collect();
+    let mut refusals = RefusalMemory::default();
+    let cause = Cause::Energy { gain: 1e9 };
+    refusals.remember(&cloth.mesh, &edges, 0.0, cause, spec.t_simplify);
+    s.refusals = refusals;
+    let ctx = |time: Real| AdaptContext {
+        obstacles: &obstacles,
+        time,
+        params: &spec,
+        interrupt: None,
+    };
+    let r = s.adapt(&mut cloth, &ctx(0.5 * spec.t_simplify)).unwrap();
+    assert_eq!(r.events, 0, "bisected within the wait");
+    let r = s.adapt(&mut cloth, &ctx(1.01 * spec.t_simplify)).unwrap();
+    assert!(r.events > 0, "the fold is bisected once the wait is over");
+}

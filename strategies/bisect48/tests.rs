@@ -2,7 +2,7 @@
 //! the helpers shared with the property tests (`proptests.rs`): the invariant checker and edit
 //! targets that check or refuse edits.
 use super::*;
-use crate::adapt::{ConservingError, EditTarget};
+use crate::adapt::{ConservingError, EditTarget, EnergyRefusal};
 use crate::math::Real;
 use crate::mesh::{union_jack, Edit, EditError, EditRecord, FaceId, Mesh, VertexId};
 use proptest::prelude::*;
@@ -149,10 +149,11 @@ impl EditTarget for Refusing<'_> {
     fn apply_conserving(&mut self, edit: &Edit) -> Result<EditRecord, ConservingError> {
         if self.energy && self.count == self.fail_at {
             self.count += 1;
-            return Err(ConservingError::AddsEnergy {
+            return Err(EnergyRefusal {
                 gain: 1.0,
                 payable: 0.0,
-            });
+            }
+            .into());
         }
         Ok(self.apply(edit)?)
     }
@@ -351,7 +352,7 @@ fn edit_refused_midway_through_a_cascade_by_the_mesh_or_the_energy_law_is_rolled
         };
         let err = l.bisect(&mut target, t).unwrap_err();
         if energy {
-            assert!(matches!(err, OpError::AddsEnergy { .. }), "{err}");
+            assert!(matches!(err, OpError::AddsEnergy(_)), "{err}");
         } else {
             assert!(matches!(err, OpError::Edit(_)), "{err}");
         }

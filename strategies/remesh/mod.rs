@@ -30,19 +30,11 @@ pub use plan::{plan_region, Plan};
 pub use region::{components, region_faces};
 pub use strategy::Remesh;
 
-use crate::adapt::{AdaptParams, ConservingError, EditTarget};
+pub use crate::adapt::Direction;
+
+use crate::adapt::{AdaptParams, ConservingError, EditTarget, EnergyRefusal};
 use crate::math::Real;
 use crate::mesh::{EdgeKey, EditError, EditRecord, FaceId};
-
-/// Refine (finer mesh in the hole) or simplify (coarser).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, PartialOrd, Ord)]
-pub enum Mode {
-    /// Re-mesh finer: density scaled by `density_refine`, cloth-border edges bisected.
-    #[default]
-    Refine,
-    /// Re-mesh coarser: density scaled by `density_simplify`, collinear cloth-border edges merged.
-    Simplify,
-}
 
 /// Parameters of the elementary re-meshing operation.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -119,7 +111,7 @@ impl RemeshParams {
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct RemeshStats {
     /// Refine or simplify.
-    pub mode: Mode,
+    pub mode: Direction,
     /// Faces removed (the region).
     pub removed_faces: usize,
     /// Faces created.
@@ -167,24 +159,8 @@ pub enum RemeshError {
     Edit(#[from] EditError),
     /// The re-meshing would add energy its region's relative motion cannot pay (the energy law,
     /// [`crate::adapt::apply_edit_conserving`]).
-    #[error("the re-meshing would add {gain:.3e} J (payable {payable:.3e} J)")]
-    AddsEnergy {
-        /// Total energy gained (J).
-        gain: Real,
-        /// Relative kinetic energy of the touched vertices (J).
-        payable: Real,
-    },
-}
-
-impl From<ConservingError> for RemeshError {
-    fn from(e: ConservingError) -> Self {
-        match e {
-            ConservingError::Edit(e) => RemeshError::Edit(e),
-            ConservingError::AddsEnergy { gain, payable } => {
-                RemeshError::AddsEnergy { gain, payable }
-            }
-        }
-    }
+    #[error(transparent)]
+    AddsEnergy(#[from] EnergyRefusal),
 }
 
 /// Re-meshes the region of `edges` in `mode` through an [`EditTarget`]: the bare mesh (property
@@ -198,11 +174,13 @@ impl From<ConservingError> for RemeshError {
 pub fn remesh_region<T: EditTarget + ?Sized>(
     target: &mut T,
     edges: &[EdgeKey],
-    mode: Mode,
+    mode: Direction,
     params: &RemeshParams,
 ) -> Result<(EditRecord, RemeshStats), RemeshError> {
     let faces = region_faces(target.mesh(), edges)?;
     let plan = plan_region(target.mesh(), &faces, mode, params)?;
-    let record = target.apply_conserving(&plan.edit)?;
+    let record = target
+        .apply_conserving(&plan.edit)
+        .map_err(ConservingError::into_error::<RemeshError>)?;
     Ok((record, plan.stats))
 }

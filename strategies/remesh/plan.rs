@@ -4,7 +4,7 @@
 
 use super::hole::{min_angle, HoleMesh, HoleMesher, HoleParams};
 use super::region::{hole_border, interior_vertices, BorderEdge};
-use super::{Mode, RemeshError, RemeshParams, RemeshStats};
+use super::{Direction, RemeshError, RemeshParams, RemeshStats};
 use crate::math::{signed_area, Real, Vec2};
 use crate::mesh::{EdgeKey, Edit, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef};
 use std::collections::{BTreeMap, BTreeSet};
@@ -54,7 +54,7 @@ enum Verdict {
 pub fn plan_region(
     mesh: &Mesh,
     faces: &BTreeSet<FaceId>,
-    mode: Mode,
+    mode: Direction,
     params: &RemeshParams,
 ) -> Result<Plan, RemeshError> {
     if faces.is_empty() {
@@ -80,22 +80,22 @@ pub fn plan_region(
     }
     let n = border.len() as Real;
     let scale = match mode {
-        Mode::Refine => params.density_refine,
-        Mode::Simplify => params.density_simplify,
+        Direction::Refine => params.density_refine,
+        Direction::Simplify => params.density_simplify,
     };
     let density = scale * sum_f / n;
     let mut spacing = (sum_l / n) / density;
-    if mode == Mode::Simplify {
+    if mode == Direction::Simplify {
         spacing = spacing.min(params.l_max);
     }
     let floor = params.floor_factor * params.l_min;
     // Refinement seeds every removed face's centroid where the lattice left room.
     let hints: Vec<Vec2> = match mode {
-        Mode::Refine => faces
+        Direction::Refine => faces
             .iter()
             .map(|&f| mesh.face(f).map(|v| mesh.rest(v)).iter().sum::<Vec2>() / 3.0)
             .collect(),
-        Mode::Simplify => Vec::new(),
+        Direction::Simplify => Vec::new(),
     };
     let mut last = "no attempt";
     let mut mesher = HoleMesher::default();
@@ -142,15 +142,15 @@ pub fn plan_region(
                 .count();
         let (small, small_interior) = angle_counts(&hole, fixed.len(), params.angle_limit_deg);
         let verdict = match mode {
-            Mode::Refine if new_vertices == 0 => Verdict::Denser("no new vertex"),
-            Mode::Refine if after >= before * (1.0 - MIN_CHANGE) => {
+            Direction::Refine if new_vertices == 0 => Verdict::Denser("no new vertex"),
+            Direction::Refine if after >= before * (1.0 - MIN_CHANGE) => {
                 Verdict::Denser("edges not shorter")
             }
             _ if too_short => Verdict::Coarser("a new edge is below the floor"),
             _ if small_interior > 0 || small > constraints.len() => {
                 Verdict::Coarser("too many triangles below the angle limit")
             }
-            Mode::Simplify if after <= before * (1.0 + MIN_CHANGE) => {
+            Direction::Simplify if after <= before * (1.0 + MIN_CHANGE) => {
                 if hole.points.len() == fixed.len() {
                     Verdict::Refuse("edges not longer")
                 } else {
@@ -184,11 +184,11 @@ pub fn plan_region(
             }
             Verdict::Coarser(why) => {
                 last = why;
-                if mode == Mode::Simplify && spacing >= params.l_max {
+                if mode == Direction::Simplify && spacing >= params.l_max {
                     break;
                 }
                 spacing *= params.retry_factor;
-                if mode == Mode::Simplify {
+                if mode == Direction::Simplify {
                     spacing = spacing.min(params.l_max);
                 }
             }
@@ -216,7 +216,7 @@ fn hole_input(
     mesh: &Mesh,
     border: &[BorderEdge],
     pinned: &[VertexId],
-    mode: Mode,
+    mode: Direction,
     spacing: Real,
     params: &RemeshParams,
 ) -> (Vec<Fixed>, Vec<[usize; 2]>) {
@@ -225,7 +225,7 @@ fn hole_input(
         .iter()
         .map(|e| (e.from, e.to, e.cloth_border))
         .collect();
-    if mode == Mode::Simplify {
+    if mode == Direction::Simplify {
         merge_collinear(mesh, &mut chain, params.l_max);
     }
     let mut fixed: Vec<Fixed> = Vec::new();
@@ -240,7 +240,7 @@ fn hole_input(
     for &(a, b, cloth) in &chain {
         let (ia, ib) = (id(a, &mut fixed), id(b, &mut fixed));
         let l = mesh.rest_length(a, b);
-        let split = mode == Mode::Refine
+        let split = mode == Direction::Refine
             && cloth
             && l > spacing
             && 0.5 * l >= params.floor_factor * params.l_min;
@@ -424,7 +424,7 @@ fn angle_counts(hole: &HoleMesh, n_fixed: usize, limit_deg: Real) -> (usize, usi
 
 /// Counts of the planned edit (the angle counts and lengths are the caller's).
 fn stats(
-    mode: Mode,
+    mode: Direction,
     edit: &Edit,
     fixed: &[Fixed],
     constraints: &[[usize; 2]],

@@ -1,19 +1,17 @@
 //! The [`Adaptivity`] implementation of local remeshing (MODEL.md §8.2) and its per-edge
 //! bookkeeping: the time each edge was made by a refinement, for the simplification hysteresis
 //! (`t_simplify`) and the 10 % smoothing rule of the shared criteria, and the last refusal of a
-//! region holding it: by the energy law (such an edge waits until the region's motion could pay
-//! the refused gain, or for a time that doubles with each refusal) or by the mesher when
-//! coarsening (such an edge waits that time before it is coarsened again).
+//! region holding it, by the energy law or by the mesher when coarsening (the shared back-off,
+//! [`RefusalMemory`]).
 
-use super::{components, region_faces, remesh_region, Mode, RemeshError, RemeshParams};
+use super::{components, region_faces, remesh_region, Direction, RemeshError, RemeshParams};
 use crate::adapt::criteria::{select, EdgeInfo};
-use crate::adapt::relative_kinetic_energy;
 use crate::adapt::{AdaptContext, AdaptError, AdaptReport, Adaptivity, ClothTarget};
+use crate::adapt::{Cause, RefusalMemory};
 use crate::cloth::Cloth;
 use crate::math::Real;
-use crate::mesh::{EdgeKey, FaceId, Mesh, VertexId, VertexKey};
+use crate::mesh::{EdgeKey, FaceId, Mesh, VertexKey};
 use std::collections::{BTreeMap, BTreeSet};
-use std::sync::Arc;
 
 /// Counters of a run of the strategy.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -39,40 +37,7 @@ pub struct RemeshCounters {
 /// A region by its faces' vertex keys (each triple sorted, the list sorted) and the mode asked:
 /// the planner works in rest space, where a vertex never moves, so the same key under the same
 /// parameters always gets the same answer.
-type RegionKey = (Mode, Vec<[VertexKey; 3]>);
-
-/// Longest wait (in units of `t_simplify`) of a region that keeps being refused.
-const MAX_WAIT: Real = 16.0;
-
-/// The last refusal of a region whose edges then wait.
-#[derive(Clone, Debug, PartialEq)]
-struct Refusal {
-    /// Simulated time (s) of the refusal.
-    at: Real,
-    /// Who refused, and what the edges wait for.
-    cause: Cause,
-    /// How long (s) after `at` the region's edges wait: `t_simplify` after a first refusal,
-    /// doubled by each further one of an edge up to `MAX_WAIT` times `t_simplify`.
-    wait: Real,
-    /// For an energy refusal, the region's vertices (the ends of its selected edges), whose
-    /// relative motion may pay the gain; empty for a coarsening.
-    vertices: Vec<VertexKey>,
-}
-
-/// Who refused a region, which says what its edges wait for.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) enum Cause {
-    /// The energy law: the re-meshing would have added `gain` (J). The edges wait, in either
-    /// mode, until the wait ends or the region's relative motion could pay the gain.
-    Energy {
-        /// The energy (J) the re-meshing would have added.
-        gain: Real,
-    },
-    /// The mesher found no acceptable coarser mesh of the region. Its edges are not coarsened
-    /// again until the wait ends (the regions they form change from pass to pass, so the
-    /// planner's memory of refused regions rarely answers for them); they may be refined.
-    Coarsening,
-}
+type RegionKey = (Direction, Vec<[VertexKey; 3]>);
 
 /// Local remeshing: regions of selected edges are removed and re-meshed in rest space.
 #[derive(Clone, Debug, Default)]
@@ -88,7 +53,7 @@ pub struct Remesh {
     /// The last refusal (by the energy law, or by the mesher when coarsening) of a region
     /// selected by each edge, shared by the region's edges (the cloth's motion and the regions
     /// around change that answer, so such edges wait, they are not refused for good).
-    refused_at: BTreeMap<(VertexKey, VertexKey), Arc<Refusal>>,
+    pub(super) refusals: RefusalMemory,
     /// What the strategy did so far.
     pub counters: RemeshCounters,
 }
@@ -131,79 +96,20 @@ impl Remesh {
 
     /// Forgets entries whose vertices are gone, refinement times that reached `t_simplify` (both
     /// thresholds of the criteria are at most `t_simplify`, so such an edge counts as old either
-    /// way), and refusals quiet for twice their wait (the edge's next refusal waits afresh).
+    /// way), and refusals quiet for twice their wait ([`RefusalMemory::prune`]).
     pub(super) fn prune(&mut self, mesh: &Mesh, now: Real, t_simplify: Real) {
         let alive = |(a, b): &(VertexKey, VertexKey)| {
             mesh.resolve(*a).is_some() && mesh.resolve(*b).is_some()
         };
         self.refined_at
             .retain(|e, t| alive(e) && now - *t < t_simplify);
-        self.refused_at
-            .retain(|e, r| alive(e) && now - r.at < 2.0 * r.wait);
+        self.refusals.prune(mesh, now);
         self.refused_plans
             .retain(|(_, faces), _| faces.iter().flatten().all(|&k| mesh.resolve(k).is_some()));
     }
 
-    /// True when `edge` waits at time `now` (s) to be re-meshed in `mode`: a region of it was
-    /// refused within that refusal's wait, by the energy law while the relative kinetic energy
-    /// of that region's vertices still cannot pay the refused gain, or by the mesher when
-    /// coarsening and `mode` coarsens.
-    pub(super) fn waiting(&self, cloth: &Cloth, edge: EdgeKey, now: Real, mode: Mode) -> bool {
-        let Some(r) = self.refused_at.get(&edge_keys(&cloth.mesh, edge)) else {
-            return false;
-        };
-        if now - r.at >= r.wait {
-            return false;
-        }
-        match r.cause {
-            Cause::Energy { gain } => {
-                let vertices: Vec<VertexId> = r
-                    .vertices
-                    .iter()
-                    .filter_map(|&k| cloth.mesh.resolve(k))
-                    .collect();
-                relative_kinetic_energy(cloth, &vertices) < gain
-            }
-            Cause::Coarsening => mode == Mode::Simplify,
-        }
-    }
-
-    /// Remembers a refusal for `cause` at `now` (s) of the region of `edges`.
-    pub(super) fn remember_refusal(
-        &mut self,
-        mesh: &Mesh,
-        edges: &[EdgeKey],
-        now: Real,
-        cause: Cause,
-        t_simplify: Real,
-    ) {
-        let mut vertices: Vec<VertexKey> = match cause {
-            Cause::Energy { .. } => edges
-                .iter()
-                .flat_map(|e| [mesh.key(e.0), mesh.key(e.1)])
-                .collect(),
-            Cause::Coarsening => Vec::new(),
-        };
-        vertices.sort_unstable();
-        vertices.dedup();
-        let wait = edges
-            .iter()
-            .filter_map(|&e| self.refused_at.get(&edge_keys(mesh, e)))
-            .map(|r| (2.0 * r.wait).min(MAX_WAIT * t_simplify))
-            .fold(t_simplify, Real::max);
-        let refusal = Arc::new(Refusal {
-            at: now,
-            cause,
-            wait,
-            vertices,
-        });
-        for &e in edges {
-            self.refused_at.insert(edge_keys(mesh, e), refusal.clone());
-        }
-    }
-
     /// The key of the region `edges` select, `None` when an edge is gone.
-    fn region_key(mesh: &Mesh, edges: &[EdgeKey], mode: Mode) -> Option<RegionKey> {
+    fn region_key(mesh: &Mesh, edges: &[EdgeKey], mode: Direction) -> Option<RegionKey> {
         let faces = region_faces(mesh, edges).ok()?;
         let mut keys: Vec<[VertexKey; 3]> = faces
             .iter()
@@ -225,12 +131,12 @@ impl Remesh {
         target: &mut ClothTarget,
         ctx: &AdaptContext,
         edges: impl IntoIterator<Item = EdgeKey>,
-        mode: Mode,
+        mode: Direction,
         fresh: &mut BTreeSet<FaceId>,
     ) {
         let edges: Vec<EdgeKey> = edges
             .into_iter()
-            .filter(|&e| !self.waiting(target.cloth, e, ctx.time, mode))
+            .filter(|&e| !self.refusals.waiting(target.cloth, e, ctx.time, mode))
             .collect();
         let params = RemeshParams::from_adapt(ctx.params);
         for group in components(&target.cloth.mesh, &edges) {
@@ -248,7 +154,7 @@ impl Remesh {
         target: &mut ClothTarget,
         ctx: &AdaptContext,
         edges: &[EdgeKey],
-        mode: Mode,
+        mode: Direction,
         params: &RemeshParams,
         fresh: &mut BTreeSet<FaceId>,
     ) {
@@ -270,7 +176,7 @@ impl Remesh {
                 self.counters.small_angle += stats.small_angle;
                 self.counters.added_faces += stats.added_faces;
                 match mode {
-                    Mode::Refine => {
+                    Direction::Refine => {
                         self.counters.refined += 1;
                         let mesh = &target.cloth.mesh;
                         for &f in &record.added_faces {
@@ -281,22 +187,25 @@ impl Remesh {
                             }
                         }
                     }
-                    Mode::Simplify => self.counters.simplified += 1,
+                    Direction::Simplify => self.counters.simplified += 1,
                 }
             }
             Err(e) => {
                 self.counters.refused += 1;
                 let cause = match (&e, mode) {
-                    (RemeshError::AddsEnergy { gain, .. }, _) => {
+                    (RemeshError::AddsEnergy(r), _) => {
                         self.counters.energy_refused += 1;
-                        Some(Cause::Energy { gain: *gain })
+                        Some(Cause::Energy { gain: r.gain })
                     }
-                    (RemeshError::NoAcceptableMesh(_), Mode::Simplify) => Some(Cause::Coarsening),
+                    (RemeshError::NoAcceptableMesh(_), Direction::Simplify) => {
+                        Some(Cause::Coarsening)
+                    }
                     _ => None,
                 };
                 if let Some(cause) = cause {
                     let t_simplify = ctx.params.t_simplify;
-                    self.remember_refusal(&target.cloth.mesh, edges, now, cause, t_simplify);
+                    self.refusals
+                        .remember(&target.cloth.mesh, edges, now, cause, t_simplify);
                 }
                 self.counters.last_refusal = e.to_string();
                 if let (Some(k), RemeshError::NoAcceptableMesh(_)) = (key, &e) {
@@ -328,7 +237,7 @@ impl Adaptivity for Remesh {
         let mut target = ctx.edit_target(cloth);
         let mut fresh = BTreeSet::new();
         let refine = selection.refine.iter().map(|(e, _)| *e);
-        self.apply_components(&mut target, ctx, refine, Mode::Refine, &mut fresh);
+        self.apply_components(&mut target, ctx, refine, Direction::Refine, &mut fresh);
         // Simplify only what this pass did not just re-mesh.
         let simplify: Vec<EdgeKey> = selection
             .simplify
@@ -343,7 +252,7 @@ impl Adaptivity for Remesh {
             })
             .collect();
         if !ctx.interrupted() {
-            self.apply_components(&mut target, ctx, simplify, Mode::Simplify, &mut fresh);
+            self.apply_components(&mut target, ctx, simplify, Direction::Simplify, &mut fresh);
         }
         Ok(target.report)
     }

@@ -1,7 +1,6 @@
 //! Tests of the local-remeshing strategy: the elementary operation on hand-built meshes, the
 //! strategy's bookkeeping, and property tests over random grids and random operation sequences.
 
-use super::strategy::Cause;
 use super::*;
 use crate::adapt::{Adaptivity, ClothTarget, TransferOptions};
 use crate::cloth::Cloth;
@@ -64,7 +63,8 @@ fn refining_an_interior_edge_makes_a_finer_conforming_region() {
     let area = rest_area(&mesh);
     // (1,1)-(2,2) = 6-12, a diagonal of the 5x5 grid.
     let before = mean_length(&mesh, region_faces(&mesh, &[e(6, 12)]).unwrap());
-    let (record, stats) = remesh_region(&mut mesh, &[e(6, 12)], Mode::Refine, &params(4)).unwrap();
+    let (record, stats) =
+        remesh_region(&mut mesh, &[e(6, 12)], Direction::Refine, &params(4)).unwrap();
     mesh.check().unwrap();
     assert!((rest_area(&mesh) - area).abs() <= 1e-12 * area);
     assert!(!record.added_vertices.is_empty());
@@ -77,7 +77,8 @@ fn refining_an_interior_edge_makes_a_finer_conforming_region() {
 fn refining_at_the_cloth_border_bisects_border_edges() {
     let mut mesh = union_jack(3, 3, 1.0, 1.0);
     // Edge 0-1 lies on the cloth border v = 0.
-    let (record, stats) = remesh_region(&mut mesh, &[e(0, 1)], Mode::Refine, &params(2)).unwrap();
+    let (record, stats) =
+        remesh_region(&mut mesh, &[e(0, 1)], Direction::Refine, &params(2)).unwrap();
     mesh.check().unwrap();
     assert!(stats.border_splits >= 1, "{stats:?}");
     let mid = record
@@ -102,7 +103,7 @@ fn simplifying_a_refined_patch_coarsens_it_and_keeps_corners_and_pins() {
     let all: Vec<EdgeKey> = mesh.edges().map(|(k, _)| k).collect();
     let vertices = mesh.vertex_count();
     let before = mean_length(&mesh, mesh.faces().collect::<Vec<_>>());
-    let (record, stats) = remesh_region(&mut mesh, &all, Mode::Simplify, &p).unwrap();
+    let (record, stats) = remesh_region(&mut mesh, &all, Direction::Simplify, &p).unwrap();
     mesh.check().unwrap();
     assert!(mesh.vertex_count() < vertices, "{stats:?}");
     assert!(!record.removed_vertices.is_empty());
@@ -137,7 +138,7 @@ fn region_around_a_kept_island_is_remeshed_as_an_annulus() {
     let faces = region_faces(&mesh, &ring).unwrap();
     assert!(faces.is_disjoint(&island));
     let area = rest_area(&mesh);
-    remesh_region(&mut mesh, &ring, Mode::Refine, &params(6)).unwrap();
+    remesh_region(&mut mesh, &ring, Direction::Refine, &params(6)).unwrap();
     mesh.check().unwrap();
     assert!((rest_area(&mesh) - area).abs() <= 1e-12 * area);
     for f in island {
@@ -150,7 +151,7 @@ fn refusals_leave_the_mesh_untouched() {
     let mut mesh = union_jack(4, 4, 1.0, 1.0);
     let copy = mesh.clone();
     assert_eq!(
-        remesh_region(&mut mesh, &[e(0, 15)], Mode::Refine, &params(3)).unwrap_err(),
+        remesh_region(&mut mesh, &[e(0, 15)], Direction::Refine, &params(3)).unwrap_err(),
         RemeshError::NoSuchEdge(e(0, 15))
     );
     // A floor above every possible new edge: refining can never be accepted.
@@ -158,7 +159,7 @@ fn refusals_leave_the_mesh_untouched() {
         l_min: 10.0,
         ..params(3)
     };
-    let err = remesh_region(&mut mesh, &[e(5, 10)], Mode::Refine, &p).unwrap_err();
+    let err = remesh_region(&mut mesh, &[e(5, 10)], Direction::Refine, &p).unwrap_err();
     assert!(matches!(err, RemeshError::NoAcceptableMesh(_)), "{err}");
     assert_eq!(mesh, copy);
 }
@@ -216,76 +217,6 @@ fn refined_edges_age_and_are_forgotten_after_t_simplify() {
     assert!((age - 0.05).abs() < 1e-12, "{age}");
     s.prune(&cloth.mesh, 1.0 + spec.t_simplify, spec.t_simplify);
     assert_eq!(s.age(&cloth.mesh, edge, 1.2), None);
-}
-
-/// An edge of a region the energy law refused waits `t_simplify`, twice that after a second
-/// refusal, at most 16 times that; not at all once the region's relative motion could pay the
-/// refused gain; and `prune` forgets an old refusal without losing a newer one.
-#[test]
-fn an_energy_refused_region_waits_longer_each_time_unless_its_motion_can_pay() {
-    let mut cloth = crate::testing::flat_cloth(3, Vec3::zeros());
-    let (t_simplify, gain) = (0.1, 1e-6);
-    let energy = Cause::Energy { gain };
-    let (edge, other) = (e(0, 1), e(7, 8));
-    let mut s = Remesh::new();
-    s.remember_refusal(&cloth.mesh, &[edge], 0.0, energy, t_simplify);
-    assert!(
-        s.waiting(&cloth, edge, 0.09, Mode::Refine) && !s.waiting(&cloth, edge, 0.11, Mode::Refine)
-    );
-    assert!(
-        s.waiting(&cloth, edge, 0.09, Mode::Simplify),
-        "either mode waits"
-    );
-    assert!(
-        !s.waiting(&cloth, other, 0.05, Mode::Refine),
-        "an edge never refused"
-    );
-    s.remember_refusal(&cloth.mesh, &[edge], 0.1, energy, t_simplify);
-    assert!(
-        s.waiting(&cloth, edge, 0.29, Mode::Refine) && !s.waiting(&cloth, edge, 0.31, Mode::Refine)
-    );
-    for _ in 0..10 {
-        s.remember_refusal(&cloth.mesh, &[edge], 0.3, energy, t_simplify);
-    }
-    assert!(
-        s.waiting(&cloth, edge, 0.3 + 1.59, Mode::Refine)
-            && !s.waiting(&cloth, edge, 0.3 + 1.61, Mode::Refine)
-    );
-
-    // The region's two vertices moving apart hold more than the gain: tried at once.
-    cloth.v[0] = Vec3::new(-1.0, 0.0, 0.0);
-    cloth.v[1] = Vec3::new(1.0, 0.0, 0.0);
-    let payable = crate::adapt::relative_kinetic_energy(&cloth, &[VertexId(0), VertexId(1)]);
-    assert!(payable > gain, "{payable}");
-    assert!(!s.waiting(&cloth, edge, 0.31, Mode::Refine));
-    cloth.v[0] = Vec3::zeros();
-    cloth.v[1] = Vec3::zeros();
-
-    // A later refusal of another edge survives pruning the first (quiet for twice its wait).
-    s.remember_refusal(&cloth.mesh, &[other], 3.45, energy, t_simplify);
-    s.prune(&cloth.mesh, 0.3 + 2.0 * 1.6 + 0.01, t_simplify);
-    assert!(s.waiting(&cloth, other, 3.52, Mode::Refine), "kept");
-    s.remember_refusal(&cloth.mesh, &[edge], 3.6, energy, t_simplify);
-    assert!(
-        s.waiting(&cloth, edge, 3.69, Mode::Refine) && !s.waiting(&cloth, edge, 3.71, Mode::Refine),
-        "after being forgotten, an edge waits t_simplify again"
-    );
-}
-
-/// An edge of a region the mesher could not coarsen waits to be coarsened again (`t_simplify`,
-/// doubled by a further refusal), not to be refined.
-#[test]
-fn an_edge_the_mesher_could_not_coarsen_waits_to_be_coarsened_not_refined() {
-    let cloth = crate::testing::flat_cloth(3, Vec3::zeros());
-    let (edge, t_simplify) = (e(0, 1), 0.1);
-    let mut s = Remesh::new();
-    s.remember_refusal(&cloth.mesh, &[edge], 0.0, Cause::Coarsening, t_simplify);
-    assert!(s.waiting(&cloth, edge, 0.09, Mode::Simplify));
-    assert!(!s.waiting(&cloth, edge, 0.11, Mode::Simplify));
-    assert!(!s.waiting(&cloth, edge, 0.05, Mode::Refine));
-    s.remember_refusal(&cloth.mesh, &[edge], 0.1, Cause::Coarsening, t_simplify);
-    assert!(s.waiting(&cloth, edge, 0.29, Mode::Simplify));
-    assert!(!s.waiting(&cloth, edge, 0.31, Mode::Simplify));
 }
 
 /// A region the planner refused is answered from memory when the next pass selects it again,
@@ -509,7 +440,7 @@ proptest! {
         prop_assert_eq!(corner_keys.len(), 4);
         let mut applied = 0;
         for (refine, pick, size) in ops {
-            let mode = if refine { Mode::Refine } else { Mode::Simplify };
+            let mode = if refine { Direction::Refine } else { Direction::Simplify };
             let edges = connected_edges(&cloth.mesh, pick, size);
             let region = region_faces(&cloth.mesh, &edges).unwrap();
             let before = mean_length(&cloth.mesh, region.iter().copied());
@@ -524,8 +455,8 @@ proptest! {
                     prop_assert!(cloth.mesh.check().is_ok(), "{:?}", cloth.mesh.check());
                     let after = mean_length(&cloth.mesh, record.added_faces.iter().copied());
                     match mode {
-                        Mode::Refine => prop_assert!(after < before, "refine {} -> {}", before, after),
-                        Mode::Simplify => prop_assert!(after > before, "simplify {} -> {}", before, after),
+                        Direction::Refine => prop_assert!(after < before, "refine {} -> {}", before, after),
+                        Direction::Simplify => prop_assert!(after > before, "simplify {} -> {}", before, after),
                     }
                     let (small, interior, border) =
                         angle_census(&mesh_before, &cloth.mesh, &record, p.angle_limit_deg);
@@ -582,10 +513,10 @@ fn region_with_two_border_loops_keeps_its_island() {
     let centre = VertexId(40);
     assert!(mesh.vertex_faces(centre).iter().all(|f| !faces.contains(f)));
     let area = rest_area(&mesh);
-    for mode in [Mode::Refine, Mode::Simplify] {
+    for mode in [Direction::Refine, Direction::Simplify] {
         let mut m = mesh.clone();
         let result = remesh_region(&mut m, &band, mode, &params(8));
-        if mode == Mode::Refine {
+        if mode == Direction::Refine {
             result.as_ref().expect("refining the band");
         }
         m.check().unwrap();

@@ -12,7 +12,7 @@
 //! splits that first completes the state-1-6 parent triangles blocking the wanted edge.
 
 use super::hierarchy::{bits_of, state_of, EdgeNode, EdgeRole, Hierarchy, TriKey, TriNode};
-use crate::adapt::{ConservingError, EditTarget};
+use crate::adapt::{ConservingError, EditTarget, EnergyRefusal};
 use crate::math::Real;
 use crate::mesh::{
     EdgeKey, Edit, EditError, EditRecord, FaceId, Mesh, NewVertex, Origin, VertexId, VertexRef,
@@ -120,24 +120,8 @@ pub enum OpError {
     Edit(#[from] EditError),
     /// The edit would add energy that its region's relative motion cannot pay (the energy law,
     /// docs/model-notes.md, "Energy of a re-meshing").
-    #[error(
-        "the edit would add {gain:.3e} J (its region's relative motion holds {payable:.3e} J)"
-    )]
-    AddsEnergy {
-        /// Total energy gained (J).
-        gain: Real,
-        /// Relative kinetic energy of the touched vertices after the edit (J).
-        payable: Real,
-    },
-}
-
-impl From<ConservingError> for OpError {
-    fn from(e: ConservingError) -> Self {
-        match e {
-            ConservingError::Edit(e) => OpError::Edit(e),
-            ConservingError::AddsEnergy { gain, payable } => OpError::AddsEnergy { gain, payable },
-        }
-    }
+    #[error(transparent)]
+    AddsEnergy(#[from] EnergyRefusal),
 }
 
 impl Hierarchy {
@@ -212,7 +196,9 @@ impl Hierarchy {
             edit.add.extend(faces.iter().map(|f| to_refs(*f)));
             plan.push((tk, t.state, state_of(bits), faces.len()));
         }
-        let record = target.apply_conserving(&edit)?;
+        let record = target
+            .apply_conserving(&edit)
+            .map_err(ConservingError::into_error::<OpError>)?;
         let mid = record.added_vertices[0].0;
         for f in &edit.remove {
             self.owner.remove(f);
@@ -297,7 +283,9 @@ impl Hierarchy {
             edit.add.extend(faces.iter().map(|f| to_refs(*f)));
             plan.push((tk, t.state, state_of(bits), faces.len()));
         }
-        let record = target.apply_conserving(&edit)?;
+        let record = target
+            .apply_conserving(&edit)
+            .map_err(ConservingError::into_error::<OpError>)?;
         for f in &edit.remove {
             self.owner.remove(f);
         }

@@ -10,14 +10,16 @@
 //! An edge refined for collision has its new vertex projected onto the obstacle surface (plus
 //! the collision margin). Simplification: a split edge is merged when both its children are
 //! selected for simplification and the edge, and any state-7 triangle the merge would undo, are at
-//! least `t_simplify` old; deepest first.
+//! least `t_simplify` old; deepest first. A split or merge the energy law refused waits before it
+//! is tried again (the shared back-off, [`RefusalMemory`]).
 
 use super::hierarchy::{EdgeRole, Hierarchy};
 use super::ops::{OpError, OpRecord};
 use crate::adapt::AdaptParams;
 use crate::adapt::RefineReason;
 use crate::adapt::{
-    select, AdaptContext, AdaptError, AdaptReport, Adaptivity, ClothTarget, EdgeInfo,
+    select, AdaptContext, AdaptError, AdaptReport, Adaptivity, Cause, ClothTarget, Direction,
+    EdgeInfo, EnergyRefusal, RefusalMemory,
 };
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
@@ -32,6 +34,8 @@ pub struct Simnett {
     hierarchy: Option<Hierarchy>,
     /// The depth limit (1-to-4 levels), fixed at the first adaptation from the initial mesh.
     depth_limit: u32,
+    /// Edges whose split or merge the energy law refused, waiting before they are tried again.
+    pub(super) refusals: RefusalMemory,
 }
 
 impl Simnett {
@@ -95,6 +99,7 @@ impl Adaptivity for Simnett {
             .hierarchy
             .get_or_insert_with(|| Hierarchy::new(&cloth.mesh));
         let now = ctx.time;
+        self.refusals.prune(&cloth.mesh, now);
         let sel = select(
             cloth,
             ctx.obstacles,
@@ -114,6 +119,12 @@ impl Adaptivity for Simnett {
             if ctx.interrupted() {
                 return Ok(target.report);
             }
+            if self
+                .refusals
+                .waiting(target.cloth, e, now, Direction::Refine)
+            {
+                continue;
+            }
             let x = &target.cloth.x;
             let length = (x[e.1 .0 as usize] - x[e.0 .0 as usize]).norm();
             let done: Result<Vec<OpRecord>, OpError> = if spec.force_completion {
@@ -131,7 +142,13 @@ impl Adaptivity for Simnett {
                     }
                 }
                 Err(OpError::Edit(err)) if err != EditError::CrossesCloth => return Err(err.into()),
-                // Refused by the physics (crossing, energy), or a precondition: blocked by the
+                Err(OpError::AddsEnergy(EnergyRefusal { gain, .. })) => {
+                    let cause = Cause::Energy { gain };
+                    let mesh = &target.cloth.mesh;
+                    self.refusals
+                        .remember(mesh, &[e], now, cause, spec.t_simplify);
+                }
+                // Refused by the physics (crossing), or a precondition: blocked by the
                 // faithful rule, at the maximum depth, already split by an earlier operation of
                 // this call, or not a hierarchy edge.
                 Err(_) => {}
@@ -141,9 +158,21 @@ impl Adaptivity for Simnett {
             if ctx.interrupted() {
                 break;
             }
+            if self
+                .refusals
+                .waiting(target.cloth, p, now, Direction::Simplify)
+            {
+                continue;
+            }
             match h.merge_edge(&mut target, p, now) {
                 Ok(_) => {}
                 Err(OpError::Edit(err)) if err != EditError::CrossesCloth => return Err(err.into()),
+                Err(OpError::AddsEnergy(EnergyRefusal { gain, .. })) => {
+                    let cause = Cause::Energy { gain };
+                    let mesh = &target.cloth.mesh;
+                    self.refusals
+                        .remember(mesh, &[p], now, cause, spec.t_simplify);
+                }
                 Err(_) => {}
             }
         }

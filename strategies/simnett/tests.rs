@@ -357,3 +357,35 @@ fn fold_refines_by_curvature_up_to_max_depth_and_flat_cloth_merges_back() {
     assert_eq!(s.hierarchy().unwrap().split_count(), 0);
     assert_eq!(triples(&cloth.mesh), initial);
 }
+
+/// Edges the energy law refused wait before they are tried again: a fold selected for
+/// refinement is not split within the wait, and is split after it.
+#[test]
+fn edges_refused_by_the_energy_law_are_not_split_again_within_their_wait() {
+    use crate::adapt::{Cause, RefusalMemory};
+    let mut cloth = flat_cloth();
+    for w in cloth.mesh.vertices().collect::<Vec<_>>() {
+        let p = cloth.mesh.rest(w);
+        if p.x > 0.5 {
+            cloth.x[w.0 as usize] = Vec3::new(0.0, p.y - 0.5, p.x - 0.5);
+        }
+    }
+    let obstacles = sphere(0.01, -10.0);
+    let spec = AdaptParams::default();
+    let mut s = Simnett::default();
+    let edges: Vec<EdgeKey> = cloth.mesh.edges().map(|(e, _)| e).collect();
+    let mut refusals = RefusalMemory::default();
+    let cause = Cause::Energy { gain: 1e9 };
+    refusals.remember(&cloth.mesh, &edges, 0.0, cause, spec.t_simplify);
+    s.refusals = refusals;
+    let ctx = |time| AdaptContext {
+        obstacles: &obstacles,
+        time,
+        params: &spec,
+        interrupt: None,
+    };
+    let r = s.adapt(&mut cloth, &ctx(0.5 * spec.t_simplify)).unwrap();
+    assert_eq!(r.events, 0, "split within the wait {r:?}");
+    let r = s.adapt(&mut cloth, &ctx(1.01 * spec.t_simplify)).unwrap();
+    assert!(r.events > 0, "the fold is split once the wait is over");
+}
