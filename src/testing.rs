@@ -170,3 +170,13 @@ pub fn pieces_pattern(x: &[Vec3], faces: &[[usize; 3]]) -> Vec<Vec2> {
         })
         .collect()
 }
+
+/// A refusal memory in which every edge of `mesh` was refused by the energy law at time 0 with a
+/// gain no motion pays (1e9 J): each waits `t_simplify` (s).
+pub fn every_edge_refused(mesh: &Mesh, t_simplify: Real) -> crate::adapt::RefusalMemory {
+    use crate::adapt::{Cause, RefusalMemory};
+    let edges: Vec<crate::mesh::EdgeKey> = mesh.edges().map(|(e, _)| e).collect();
+    let mut refusals = RefusalMemory::default();
+    refusals.remember(mesh, &edges, 0.0, Cause::Energy { gain: 1e9 }, t_simplify);
+    refusals
+}

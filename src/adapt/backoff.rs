@@ -8,7 +8,7 @@
 //! through); a coarsening refusal holds only coarsening (the edge may be refined). A refusal
 //! quiet for twice its wait is forgotten: the edge's next refusal waits `t_simplify` afresh.
 
-use super::relative_kinetic_energy;
+use super::{relative_kinetic_energy, EnergyRefusal};
 use crate::cloth::Cloth;
 use crate::math::Real;
 use crate::mesh::{EdgeKey, Mesh, VertexId, VertexKey};
@@ -40,6 +40,13 @@ pub enum Cause {
     /// No acceptable coarser mesh was found. The edges are not coarsened again until the wait
     /// ends; they may be refined.
     Coarsening,
+}
+
+impl From<EnergyRefusal> for Cause {
+    /// The energy law's refusal: the edges wait for motion that could pay its gain.
+    fn from(r: EnergyRefusal) -> Self {
+        Cause::Energy { gain: r.gain }
+    }
 }
 
 /// The last refusal of an edit, shared by its edges.

@@ -27,8 +27,8 @@
 use super::labels::Labels;
 use super::ops::OpError;
 use crate::adapt::{
-    select, AdaptContext, AdaptError, AdaptParams, AdaptReport, Adaptivity, Cause, Direction,
-    EdgeInfo, EnergyRefusal, RefusalMemory,
+    select, AdaptContext, AdaptError, AdaptParams, AdaptReport, Adaptivity, Direction, EdgeInfo,
+    RefusalMemory,
 };
 use crate::cloth::Cloth;
 use crate::math::Real;
@@ -158,11 +158,10 @@ impl Adaptivity for Bisect48 {
                     }
                     // Refused because the new faces would add energy the region's motion cannot
                     // pay: the edge waits.
-                    Err(OpError::AddsEnergy(EnergyRefusal { gain, .. })) => {
-                        let cause = Cause::Energy { gain };
+                    Err(OpError::AddsEnergy(refusal)) => {
                         let mesh = &target.cloth.mesh;
                         self.refusals
-                            .remember(mesh, &[e], now, cause, spec.t_simplify);
+                            .remember(mesh, &[e], now, refusal.into(), spec.t_simplify);
                         break;
                     }
                     // At the depth limit, or refused because the new faces would cross the cloth.
@@ -208,11 +207,10 @@ impl Adaptivity for Bisect48 {
                 Ok(_) | Err(OpError::Edit(EditError::CrossesCloth)) => {}
                 // Refused: the merge would add energy the region's motion cannot pay; the edges
                 // around the vertex wait.
-                Err(OpError::AddsEnergy(EnergyRefusal { gain, .. })) => {
-                    let cause = Cause::Energy { gain };
+                Err(OpError::AddsEnergy(refusal)) => {
                     let mesh = &target.cloth.mesh;
                     self.refusals
-                        .remember(mesh, &star, now, cause, spec.t_simplify);
+                        .remember(mesh, &star, now, refusal.into(), spec.t_simplify);
                 }
                 Err(other) => return Err(Self::error(other)),
             }

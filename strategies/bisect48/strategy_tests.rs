@@ -91,18 +91,12 @@ fn strategy_is_built_by_name() {
 /// refinement is not bisected within the wait, and is bisected after it.
 #[test]
 fn edges_refused_by_the_energy_law_are_not_bisected_again_within_their_wait() {
-    use crate::adapt::{Cause, RefusalMemory};
-    use crate::mesh::EdgeKey;
     let obstacles = testing::obstacles(&[]);
     let spec = AdaptParams::default();
     let mut cloth = flat_cloth(5, Vec3::zeros());
     fold(&mut cloth);
     let mut s = Bisect48::new();
-    let edges: Vec<EdgeKey> = cloth.mesh.edges().map(|(e, _)| e).collect();
-    let mut refusals = RefusalMemory::default();
-    let cause = Cause::Energy { gain: 1e9 };
-    refusals.remember(&cloth.mesh, &edges, 0.0, cause, spec.t_simplify);
-    s.refusals = refusals;
+    s.refusals = testing::every_edge_refused(&cloth.mesh, spec.t_simplify);
     let ctx = |time: Real| AdaptContext {
         obstacles: &obstacles,
         time,

@@ -195,7 +195,7 @@ impl Remesh {
                 let cause = match (&e, mode) {
                     (RemeshError::AddsEnergy(r), _) => {
                         self.counters.energy_refused += 1;
-                        Some(Cause::Energy { gain: r.gain })
+                        Some(Cause::from(*r))
                     }
                     (RemeshError::NoAcceptableMesh(_), Direction::Simplify) => {
                         Some(Cause::Coarsening)

@@ -18,8 +18,8 @@ use super::ops::{OpError, OpRecord};
 use crate::adapt::AdaptParams;
 use crate::adapt::RefineReason;
 use crate::adapt::{
-    select, AdaptContext, AdaptError, AdaptReport, Adaptivity, Cause, ClothTarget, Direction,
-    EdgeInfo, EnergyRefusal, RefusalMemory,
+    select, AdaptContext, AdaptError, AdaptReport, Adaptivity, ClothTarget, Direction, EdgeInfo,
+    RefusalMemory,
 };
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
@@ -142,11 +142,10 @@ impl Adaptivity for Simnett {
                     }
                 }
                 Err(OpError::Edit(err)) if err != EditError::CrossesCloth => return Err(err.into()),
-                Err(OpError::AddsEnergy(EnergyRefusal { gain, .. })) => {
-                    let cause = Cause::Energy { gain };
+                Err(OpError::AddsEnergy(refusal)) => {
                     let mesh = &target.cloth.mesh;
                     self.refusals
-                        .remember(mesh, &[e], now, cause, spec.t_simplify);
+                        .remember(mesh, &[e], now, refusal.into(), spec.t_simplify);
                 }
                 // Refused by the physics (crossing), or a precondition: blocked by the
                 // faithful rule, at the maximum depth, already split by an earlier operation of
@@ -167,11 +166,10 @@ impl Adaptivity for Simnett {
             match h.merge_edge(&mut target, p, now) {
                 Ok(_) => {}
                 Err(OpError::Edit(err)) if err != EditError::CrossesCloth => return Err(err.into()),
-                Err(OpError::AddsEnergy(EnergyRefusal { gain, .. })) => {
-                    let cause = Cause::Energy { gain };
+                Err(OpError::AddsEnergy(refusal)) => {
                     let mesh = &target.cloth.mesh;
                     self.refusals
-                        .remember(mesh, &[p], now, cause, spec.t_simplify);
+                        .remember(mesh, &[p], now, refusal.into(), spec.t_simplify);
                 }
                 Err(_) => {}
             }

@@ -362,7 +362,6 @@ fn fold_refines_by_curvature_up_to_max_depth_and_flat_cloth_merges_back() {
 /// refinement is not split within the wait, and is split after it.
 #[test]
 fn edges_refused_by_the_energy_law_are_not_split_again_within_their_wait() {
-    use crate::adapt::{Cause, RefusalMemory};
     let mut cloth = flat_cloth();
     for w in cloth.mesh.vertices().collect::<Vec<_>>() {
         let p = cloth.mesh.rest(w);
@@ -373,11 +372,7 @@ fn edges_refused_by_the_energy_law_are_not_split_again_within_their_wait() {
     let obstacles = sphere(0.01, -10.0);
     let spec = AdaptParams::default();
     let mut s = Simnett::default();
-    let edges: Vec<EdgeKey> = cloth.mesh.edges().map(|(e, _)| e).collect();
-    let mut refusals = RefusalMemory::default();
-    let cause = Cause::Energy { gain: 1e9 };
-    refusals.remember(&cloth.mesh, &edges, 0.0, cause, spec.t_simplify);
-    s.refusals = refusals;
+    s.refusals = testing::every_edge_refused(&cloth.mesh, spec.t_simplify);
     let ctx = |time| AdaptContext {
         obstacles: &obstacles,
         time,
