@@ -131,6 +131,10 @@ pub struct RefOpts {
     /// scene's; 0 = dynamic step from the start).
     #[arg(long = "ref-dt-initial", default_value = "0")]
     pub ref_dt_initial: String,
+    /// A fixed step of the reference and floor runs, s, instead of the dynamic one (then
+    /// --ref-beta and --ref-dt-initial go unused).
+    #[arg(long = "ref-dt")]
+    pub ref_dt: Option<String>,
     /// Material-point sample grid (points per side, 2 to 1000).
     #[arg(long, default_value_t = 64, value_parser = count_in(MAX_SAMPLES))]
     pub samples: usize,

@@ -68,6 +68,16 @@ fn reference_settings(o: &RefOpts) -> Result<ReferenceSettings, CliError> {
         beta: optional_number("--ref-beta", &o.ref_beta, false)?,
         integrator: o.ref_integrator.clone(),
         dt_initial: optional_number("--ref-dt-initial", &o.ref_dt_initial, true)?,
+        dt: o
+            .ref_dt
+            .as_deref()
+            .map(|text| match text.parse::<f64>() {
+                Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
+                _ => Err(CliError::Input(format!(
+                    "--ref-dt {text}: expected a step > 0 (s)"
+                ))),
+            })
+            .transpose()?,
         samples: o.samples,
     })
 }

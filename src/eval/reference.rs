@@ -17,7 +17,9 @@
 //! scene's frames.
 
 use super::metrics::{self, ErrorReport};
-use crate::scene::{ClothShape, CollisionSpec, IntegratorSpec, LoadedScene, ObstacleShape, Scene};
+use crate::scene::{
+    ClothShape, CollisionSpec, IntegratorSpec, LoadedScene, ObstacleShape, Scene, TimeMode,
+};
 use crate::sim::{self, RunOptions, RunStatus, RunSummary, SamplePoints, Simulation, Trajectory};
 use indicatif::ProgressBar;
 use serde::{Deserialize, Serialize};
@@ -47,6 +49,12 @@ pub struct ReferenceSettings {
     /// unstable on a 33x33 grid (measured: the sphere diverges at t = 0.099 s), while free fall
     /// before the first contact is the same at any step.
     pub dt_initial: Option<f64>,
+    /// Fixed step of the reference and floor runs (s; `time.mode = "fixed"`, so `beta` and
+    /// `dt_initial` go unused); `None` keeps the dynamic step. Default `None`. For an implicit
+    /// reference finer than the explicit step allows (docs/results.md: the results study's
+    /// reference).
+    #[serde(default)]
+    pub dt: Option<f64>,
     /// Sample grid: `samples x samples` rest points over the pattern. Default 64.
     pub samples: usize,
 }
@@ -59,6 +67,7 @@ impl Default for ReferenceSettings {
             beta: Some(0.01),
             integrator: None,
             dt_initial: Some(0.0),
+            dt: None,
             samples: 64,
         }
     }
@@ -268,6 +277,10 @@ pub fn static_variant(
     if let Some(i) = integrator {
         l.scene.integrator.name = i.to_string();
     }
+    if let Some(dt) = settings.dt {
+        l.scene.time.mode = TimeMode::Fixed;
+        l.scene.time.dt = dt;
+    }
     l
 }
 
@@ -451,6 +464,11 @@ pub fn ensure_reference(
             "beta must be positive".to_string(),
         ));
     }
+    if settings.dt.is_some_and(|dt| !(dt > 0.0 && dt.is_finite())) {
+        return Err(ReferenceError::Settings(
+            "the fixed step dt must be positive".to_string(),
+        ));
+    }
     let key = cache_key(base, settings);
     let dir = entry_dir(cache, base, settings);
     let bin = dir.join("reference.bin");
@@ -489,9 +507,9 @@ pub fn ensure_reference(
         simulation.check_step_estimate().map_err(|e| {
             ReferenceError::Settings(format!(
                 "the {what} run of {} (not covered by --force): {e} (the reference and floor \
-                 runs take time.beta, time.dt_initial and the integrator from --ref-beta, \
-                 --ref-dt-initial and --ref-integrator, or a study's [reference] beta, \
-                 dt_initial and integrator)",
+                 runs take the integrator and time.beta, time.dt_initial or a fixed time.dt from \
+                 --ref-integrator, --ref-beta, --ref-dt-initial and --ref-dt, or a study's \
+                 [reference] integrator, beta, dt_initial and dt)",
                 base.source
             ))
         })?;
@@ -596,21 +614,28 @@ pub fn ensure_reference(
     })
 }
 
+/// How a reference steps, for people: `fixed step 0.00025 s` when `dt` is set, else `beta = B`
+/// and when the dynamic step starts (`dt_initial`: 0 = from the start; `None`: the scene's).
+pub fn step_description(beta: f64, dt_initial: Option<f64>, dt: Option<f64>) -> String {
+    match (dt, dt_initial) {
+        (Some(dt), _) => format!("fixed step {dt} s"),
+        (None, Some(0.0)) => format!("beta = {beta}, dynamic step from the start"),
+        (None, Some(d)) => format!("beta = {beta}, {d} s until the first contact"),
+        (None, None) => format!("beta = {beta}"),
+    }
+}
+
 /// A human-readable summary of a reference and its floor.
 pub fn describe(r: &Reference) -> String {
     let h = &r.header;
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "reference {scene}: static {n}x{n}, {integ}, beta {beta}, dt_initial {dti}, {steps} steps, {wall:.1} s wall{cached}",
+        "reference {scene}: static {n}x{n}, {integ}, {step}, {steps} steps, {wall:.1} s wall{cached}",
         scene = h.scene,
         n = h.settings.resolution,
         integ = h.integrator,
-        beta = h.beta,
-        dti = h
-            .settings
-            .dt_initial
-            .map_or("as the scene".to_string(), |d| format!("{d} s")),
+        step = step_description(h.beta, h.settings.dt_initial, h.settings.dt),
         steps = h.steps,
         wall = h.wall_s,
         cached = if r.cached { " (cached)" } else { "" }

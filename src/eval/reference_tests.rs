@@ -79,6 +79,10 @@ fn cache_key_changes_with_physics_only() {
             integrator: Some("symplectic_euler".into()),
             ..settings.clone()
         },
+        ReferenceSettings {
+            dt: Some(0.00025),
+            ..settings.clone()
+        },
     ] {
         assert_ne!(base, cache_key(&sphere(&[]), &s), "{s:?}");
     }
@@ -322,4 +326,29 @@ fn scenes_without_motion_keep_their_cache_keys() {
     let shipped = load_embedded("sphere", &[]).unwrap().unwrap();
     assert!(shipped.scene.collision.self_collision);
     assert_ne!(cache_key(&shipped, &settings), "f0230cb2139792e0");
+}
+
+#[test]
+fn a_fixed_reference_step_makes_the_reference_and_floor_runs_fixed() {
+    let base = sphere(&[]);
+    let dynamic = static_variant(&base, 9, &ReferenceSettings::default());
+    assert_eq!(dynamic.scene.time.mode, TimeMode::Dynamic);
+    let settings = ReferenceSettings {
+        integrator: Some("implicit_euler".into()),
+        dt: Some(0.00025),
+        ..ReferenceSettings::default()
+    };
+    let fixed = static_variant(&base, 9, &settings);
+    assert_eq!(fixed.scene.time.mode, TimeMode::Fixed);
+    assert_eq!(fixed.scene.time.dt, 0.00025);
+    assert_eq!(fixed.scene.integrator.name, "implicit_euler");
+    assert_eq!(
+        step_description(0.01, Some(0.0), settings.dt),
+        "fixed step 0.00025 s"
+    );
+    // Cache entries written before the key existed still read.
+    let mut json = serde_json::to_value(ReferenceSettings::default()).unwrap();
+    json.as_object_mut().unwrap().remove("dt");
+    let old: ReferenceSettings = serde_json::from_value(json).unwrap();
+    assert_eq!(old.dt, None);
 }

@@ -130,7 +130,7 @@ pub fn settings(c: &Comparison) -> String {
          beta = {}) except what its configuration sets (integrator, step, swept keys: see its \
          label and its `scene.resolved.toml`); \
          {} parallel job(s) on this machine (wall times include writing frames and metrics). \
-         Reference: static {res}x{res}, {}, beta = {}{}, {} steps, {} s wall (cache key `{}`). \
+         Reference: static {res}x{res}, {}, {}, {} steps, {} s wall (cache key `{}`). \
          Errors are measured on {s}x{s} material points (MODEL.md §1). \
          **Error floor** (static {f}x{f} against the reference): e_rms {} m, e_final {} m, tracked {} m, Hausdorff {} m.{}",
         m.scene,
@@ -139,12 +139,7 @@ pub fn settings(c: &Comparison) -> String {
         m.beta,
         m.jobs,
         r.integrator,
-        r.beta,
-        match r.dt_initial {
-            Some(0.0) => ", dynamic step from the start".to_string(),
-            Some(d) => format!(", {d} s until the first contact"),
-            None => String::new(),
-        },
+        crate::eval::reference::step_description(r.beta, r.dt_initial, r.dt),
         r.steps,
         fmt_s(r.wall_s),
         r.key,

@@ -150,6 +150,7 @@ fn reference_info(r: &Reference) -> ReferenceInfo {
         beta: h.beta,
         integrator: h.integrator.clone(),
         dt_initial: h.settings.dt_initial,
+        dt: h.settings.dt,
         key: h.key.clone(),
         steps: h.steps,
         wall_s: h.wall_s,

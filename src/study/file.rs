@@ -13,6 +13,7 @@
 //! integrator = "rk4"
 //! beta = 0.01                           # dynamic step factor
 //! dt_initial = 0.0                      # step until the first contact (s); 0: dynamic at once
+//! # dt = 0.00025                        # a fixed step (s) instead of the dynamic one (no beta)
 //! samples = 64                          # material-point grid per side
 //!
 //! [[runs]]
@@ -130,6 +131,7 @@ struct ReferenceToml {
     integrator: Spanned<String>,
     beta: Spanned<f64>,
     dt_initial: Spanned<f64>,
+    dt: Option<Spanned<f64>>,
     samples: Spanned<usize>,
 }
 
@@ -142,6 +144,7 @@ impl Default for ReferenceToml {
             integrator: Spanned::new(0..0, "rk4".into()),
             beta: Spanned::new(0..0, d.beta.unwrap_or(0.01)),
             dt_initial: Spanned::new(0..0, d.dt_initial.unwrap_or(0.0)),
+            dt: None,
             samples: Spanned::new(0..0, d.samples),
         }
     }
@@ -437,12 +440,31 @@ fn reference_settings(r: &ReferenceToml, err: &Errors) -> Result<ReferenceSettin
             format!("reference.dt_initial = {dt0}: expected a finite value >= 0 (s)"),
         ));
     }
+    if let Some(dt) = &r.dt {
+        let value = *dt.get_ref();
+        if !(value.is_finite() && value > 0.0) {
+            return Err(err.spanned(
+                dt,
+                format!("reference.dt = {value}: expected a finite step > 0 (s)"),
+            ));
+        }
+        // A default has an empty span: only a `beta` the file wrote conflicts.
+        if !r.beta.span().is_empty() {
+            return Err(err.spanned(
+                &r.beta,
+                "reference.beta and reference.dt: expected one of them (beta sets the dynamic \
+                 step, dt a fixed one)"
+                    .to_string(),
+            ));
+        }
+    }
     Ok(ReferenceSettings {
         resolution: *r.resolution.get_ref(),
         floor_resolution: *r.floor.get_ref(),
         beta: Some(beta),
         integrator: Some(r.integrator.get_ref().clone()),
         dt_initial: Some(dt0),
+        dt: r.dt.as_ref().map(|d| *d.get_ref()),
         samples: *r.samples.get_ref(),
     })
 }

@@ -125,6 +125,28 @@ fn a_study_of_too_many_runs_is_refused_before_planning() {
 }
 
 #[test]
+fn a_fixed_reference_step_reaches_the_reference_settings_only() {
+    let text = "scenes = [\"sphere\"]\n[reference]\nintegrator = \"implicit_euler\"\ndt = 0.00025\n[[runs]]\nstrategy = \"static\"\n";
+    let s = parse(text).unwrap();
+    assert_eq!(s.reference.dt, Some(0.00025));
+    assert_eq!(s.reference.integrator.as_deref(), Some("implicit_euler"));
+    assert_eq!(
+        parse(BASIC).unwrap().reference.dt,
+        None,
+        "dynamic by default"
+    );
+    let scene = crate::scene::load_embedded("sphere", &[]).unwrap().unwrap();
+    let run = configs_for(&s.runs, &scene).unwrap()[0]
+        .scene(&scene)
+        .unwrap();
+    assert_eq!(
+        run.scene.time.mode,
+        crate::scene::TimeMode::Dynamic,
+        "the run keeps its step"
+    );
+}
+
+#[test]
 fn bad_keys_and_values_name_the_file_the_line_and_the_expectation() {
     let cases = [
         ("scenes = [\"sphere\"]\nrunz = 1\n", "s.toml", "unknown field `runz`"),
@@ -136,6 +158,8 @@ fn bad_keys_and_values_name_the_file_the_line_and_the_expectation() {
         ("scenes = [\"sphere\"]\n[[runs]]\nstrategy = \"static\"\nsweep = { \"x.y\" = [] }\n", "s.toml:4", "at least one value"),
         ("scenes = [\"sphere\"]\n[reference]\nfloor = 1\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.floor"),
         ("scenes = [\"sphere\"]\n[reference]\nbeta = -1.0\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.beta"),
+        ("scenes = [\"sphere\"]\n[reference]\ndt = 0.0\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.dt = 0: expected a finite step > 0 (s)"),
+        ("scenes = [\"sphere\"]\n[reference]\ndt = 0.001\nbeta = 0.01\n[[runs]]\nstrategy = \"static\"\n", "s.toml:4", "reference.beta and reference.dt: expected one"),
         ("scenes = [\"sphere\"]\n[reference]\nsamples = 100000000\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.samples = 100000000: expected 2 to 1000 points per side"),
         ("scenes = [\"sphere\"]\n[reference]\nresolution = 2001\n[[runs]]\nstrategy = \"static\"\n", "s.toml:3", "reference.resolution = 2001: expected 2 to 2000 vertices per side"),
     ("scenes = [\"sphere\"]\n[reference]\nresolution = 5\nfloor = 9\n[[runs]]\nstrategy = \"static\"\n", "s.toml:4", "expected below reference.resolution = 5"),

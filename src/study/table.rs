@@ -252,6 +252,9 @@ pub struct ReferenceInfo {
     /// Its step until the first contact (s; 0 = dynamic from the start; `None`: the scene's).
     #[serde(default)]
     pub dt_initial: Option<f64>,
+    /// Its fixed step (s), if it used one instead of the dynamic step.
+    #[serde(default)]
+    pub dt: Option<f64>,
     /// Cache key.
     pub key: String,
     /// Its steps.
@@ -430,6 +433,7 @@ pub(crate) mod tests {
                 beta: 0.01,
                 integrator: "rk4".into(),
                 dt_initial: Some(0.0),
+                dt: None,
                 key: "k".into(),
                 steps: 1,
                 wall_s: 1.0,

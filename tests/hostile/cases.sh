@@ -249,6 +249,7 @@ for o in '--integrators leapfrog' '--integrators ,' '--jobs 0' '--shard 2/1' '--
     '--ref-resolution 1' '--ref-resolution 100000' '--floor-resolution 0' '--floor-resolution 9' \
     '--samples 0' '--samples 1' '--samples 100000000' '--ref-beta nan' '--ref-beta -1' \
     '--ref-beta 1e308' '--ref-beta x' '--ref-dt-initial nan' '--ref-dt-initial 1e-300' \
+    '--ref-dt nan' '--ref-dt 0' '--ref-dt x' '--ref-dt 1e-300' \
     '--ref-integrator leapfrog' '--duration nan' '--duration 1e300' '--cache /dev/full' \
     '--write-docs /dev/full' '--docs-notes /dev/zero' '--set cloth.resolution=1'; do
     # shellcheck disable=SC2086
