@@ -51,8 +51,8 @@ pub struct ReferenceSettings {
     pub dt_initial: Option<f64>,
     /// Fixed step of the reference and floor runs (s; `time.mode = "fixed"`, so `beta` and
     /// `dt_initial` go unused); `None` keeps the dynamic step. Default `None`. For an implicit
-    /// reference finer than the explicit step allows (docs/results.md: the results study's
-    /// reference).
+    /// reference finer than the explicit step affords (studies/results-notes.md, "A finer
+    /// reference, tried").
     #[serde(default)]
     pub dt: Option<f64>,
     /// Sample grid: `samples x samples` rest points over the pattern. Default 64.
