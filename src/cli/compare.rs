@@ -22,23 +22,23 @@ fn overrides(set: &[String], duration: Option<f64>) -> Overrides {
     }
 }
 
+/// `text` as a finite number that is positive, or non-negative when `zero_ok`; `None` otherwise.
+fn finite_number(text: &str, zero_ok: bool) -> Option<f64> {
+    let x: f64 = text.parse().ok()?;
+    (x.is_finite() && (x > 0.0 || (zero_ok && x == 0.0))).then_some(x)
+}
+
 /// `scene` (`None`), or a finite number that is positive, or non-negative when `zero_ok`.
 fn optional_number(option: &str, text: &str, zero_ok: bool) -> Result<Option<f64>, CliError> {
     if text == "scene" {
         return Ok(None);
     }
     let expected = if zero_ok { ">= 0" } else { "> 0" };
-    let bad = || {
+    finite_number(text, zero_ok).map(Some).ok_or_else(|| {
         CliError::Input(format!(
             "{option} {text}: expected a number {expected} or `scene`"
         ))
-    };
-    let x: f64 = text.parse().map_err(|_| bad())?;
-    if x.is_finite() && (x > 0.0 || (zero_ok && x == 0.0)) {
-        Ok(Some(x))
-    } else {
-        Err(bad())
-    }
+    })
 }
 
 fn reference_settings(o: &RefOpts) -> Result<ReferenceSettings, CliError> {
@@ -71,11 +71,10 @@ fn reference_settings(o: &RefOpts) -> Result<ReferenceSettings, CliError> {
         dt: o
             .ref_dt
             .as_deref()
-            .map(|text| match text.parse::<f64>() {
-                Ok(x) if x.is_finite() && x > 0.0 => Ok(x),
-                _ => Err(CliError::Input(format!(
-                    "--ref-dt {text}: expected a step > 0 (s)"
-                ))),
+            .map(|text| {
+                finite_number(text, false).ok_or_else(|| {
+                    CliError::Input(format!("--ref-dt {text}: expected a step > 0 (s)"))
+                })
             })
             .transpose()?,
         samples: o.samples,
