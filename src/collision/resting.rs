@@ -22,6 +22,12 @@ pub const LEAVING_SPEED: Real = 1e-6;
 /// implicit solve").
 pub const FACE_HOLD_EXCESS: Real = 1.0;
 
+/// A face is pressed ([`Obstacles::pressed_faces`]) where the obstacle comes closer to it than
+/// its vertices' interpolated distances by more than this many collision margins. Lower than
+/// [`FACE_HOLD_EXCESS`]: measured on the plate (docs/model-notes.md, "Face contact as a
+/// penalty"), a whole margin left the 65x65 grid pumping.
+pub const PRESS_EXCESS: Real = 0.25;
+
 impl Obstacles {
     /// Calls `found(slot, obstacle, normal)` for every free vertex (`inv_mass > 0`) resting on
     /// an obstacle at positions `x` (m) and velocities `v` (m/s), not leaving it faster than
@@ -83,6 +89,48 @@ impl Obstacles {
                 }
             }
         }
+    }
+
+    /// Calls `found(face, weights, normal, distance, obstacle)` for every face of `faces`
+    /// (vertex slots into `x`, m) with a free vertex that an obstacle but the ground presses
+    /// within [`TOUCH_MARGINS`] collision margins, closer than its vertices' interpolated
+    /// distances by more than [`PRESS_EXCESS`] margins: the contact point's barycentric
+    /// weights, the obstacle's outward unit normal there, the contact's signed distance (m)
+    /// and the obstacle's index. Obstacles stand where the last [`Obstacles::set_step`] put
+    /// them.
+    pub fn pressed_faces(
+        &self,
+        x: &[Vec3],
+        inv_mass: &[Real],
+        faces: &[[usize; 3]],
+        mut found: impl FnMut([usize; 3], [Real; 3], Vec3, Real, usize),
+    ) {
+        let band = TOUCH_MARGINS * self.margin + MARGIN_SLACK;
+        for &f in faces {
+            if f.iter().all(|&i| inv_mass[i] <= 0.0) {
+                continue;
+            }
+            let tri = f.map(|i| to_glam(x[i]));
+            let (lo, hi) = bounds(tri);
+            for (index, ob) in self.obstacles.iter().enumerate() {
+                if matches!(ob.geometry(), Geometry::Ground(_)) || !ob.overlaps(lo, hi, band) {
+                    continue;
+                }
+                let Some(c) = ob.triangle_contact(tri, band) else {
+                    continue;
+                };
+                let w = barycentric(c.point, tri);
+                let poked = c.distance + PRESS_EXCESS * self.margin;
+                if interpolated_distance(ob, tri, w, poked) >= poked {
+                    found(f, w, to_na(c.normal), c.distance, index);
+                }
+            }
+        }
+    }
+
+    /// The distance (m) from an obstacle within which a face rests on it: the penalty's reach.
+    pub fn resting_band(&self) -> Real {
+        TOUCH_MARGINS * self.margin
     }
 
     /// The velocity (m/s) of a vertex held on obstacle `obstacle` at `p` (m), of velocity `v`

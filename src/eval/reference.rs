@@ -309,6 +309,13 @@ pub fn physics_json(scene: &Scene) -> serde_json::Value {
                 }
             }
         }
+        // The face penalty came on by default on 2026-11-30: off, a scene runs the model of the
+        // references cached before it, under their keys.
+        if let Some(collision) = fields.get_mut("collision").and_then(|t| t.as_object_mut()) {
+            if collision.get("penalty").and_then(|p| p.as_f64()) == Some(0.0) {
+                collision.remove("penalty");
+            }
+        }
     }
     value
 }

@@ -309,11 +309,15 @@ fn a_corrupted_reference_cache_entry_is_refused() {
 /// the key): a scene that does not use a later key keeps its cached references. The sphere's
 /// key is the one the build before the motion merge gave its reference. Self-collision
 /// (`collision.self`, issue 16) is such a later key: off, the keys are the old ones; on (as the
-/// sphere and the round table ship), it is physics and changes the key.
+/// sphere and the round table ship), it is physics and changes the key. So is the face penalty
+/// (on by default since 2026-11-30): at 0 the keys are the old ones.
 #[test]
 fn scenes_without_motion_keep_their_cache_keys() {
     let settings = ReferenceSettings::default();
-    let off = ["collision.self=false".to_string()];
+    let off = [
+        "collision.self=false".to_string(),
+        "collision.penalty=0".to_string(),
+    ];
     for (name, key) in [
         ("sphere", "f0230cb2139792e0"),
         ("round_table", "d6e383108c333410"),
@@ -326,6 +330,9 @@ fn scenes_without_motion_keep_their_cache_keys() {
     let shipped = load_embedded("sphere", &[]).unwrap().unwrap();
     assert!(shipped.scene.collision.self_collision);
     assert_ne!(cache_key(&shipped, &settings), "f0230cb2139792e0");
+    let no_self = load_embedded("sphere", &off[..1]).unwrap().unwrap();
+    assert!(no_self.scene.collision.penalty > 0.0);
+    assert_ne!(cache_key(&no_self, &settings), "f0230cb2139792e0");
 }
 
 #[test]

@@ -454,12 +454,15 @@ pub struct Energies {
     pub stretch: Real,
     /// Bending potential (J), see [`ForceModel::bending_energy`].
     pub bending: Real,
+    /// Potential of the contact penalties (J, [`crate::physics::penalty`]); 0 from
+    /// [`ForceModel::energies`], which sees no obstacle.
+    pub contact: Real,
 }
 
 impl Energies {
     /// Kinetic plus every potential (J).
     pub fn total(&self) -> Real {
-        self.kinetic + self.gravity + self.stretch + self.bending
+        self.kinetic + self.gravity + self.stretch + self.bending + self.contact
     }
 }
 
@@ -478,6 +481,7 @@ impl ForceModel {
             gravity: self.gravity_energy(x),
             stretch: self.stretch_energy(x),
             bending: self.bending_energy(x),
+            contact: 0.0,
         }
     }
 

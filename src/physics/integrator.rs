@@ -34,6 +34,7 @@ pub use verlet::{Verlet, VerletKind};
 
 use super::ForceModel;
 use super::IntegratorParams;
+use super::PressedFace;
 use crate::math::{Real, Vec3};
 
 /// The physics an integrator advances: accelerations as a function of time and state.
@@ -59,6 +60,13 @@ pub trait Dynamics {
     /// `verlet_relaxation`). Default: none (those integrators then fall back as documented).
     fn force_model(&self) -> Option<&ForceModel> {
         None
+    }
+
+    /// The faces pressed by an obstacle in this step, whose penalty
+    /// ([`crate::physics::penalty`]) the accelerations include; integrators that solve with
+    /// [`Dynamics::force_model`] add it themselves. Default: none.
+    fn pressed_faces(&self) -> &[PressedFace] {
+        &[]
     }
 }
 

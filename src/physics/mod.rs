@@ -34,6 +34,7 @@ mod kernels;
 mod lanes;
 mod limits;
 mod params;
+pub mod penalty;
 
 #[cfg(test)]
 mod tests;
@@ -46,3 +47,4 @@ pub use integrator::{
 };
 pub use limits::{StabilityLimit, ITERATIONS_AFTER_EDIT, STEPS_PER_ITERATION};
 pub use params::{Forces, IntegratorParams, LinearSolver, Material, SpringMode, StiffnessModel};
+pub use penalty::{Pressed, PressedFace};

@@ -111,6 +111,7 @@ fn out_of_range_values_are_rejected_with_key_line_and_expectation() {
             ":2",
         ),
         ("[cloth]\nresolution = 1\n", "cloth.resolution", ":2"),
+        ("[collision]\npenalty = -1e3\n", "collision.penalty", ":2"),
         // A thickness of a metre would test every pair of the cloth each step.
         (
             "[collision]\nthickness = 1.0\n",

@@ -419,6 +419,7 @@ pub(super) fn validate(
     }
     c.non_negative("collision.margin", scene.collision.margin)?;
     c.open_unit("collision.restitution", scene.collision.restitution)?;
+    c.non_negative("collision.penalty", scene.collision.penalty)?;
     c.length_up_to(
         "collision.thickness",
         scene.collision.thickness,

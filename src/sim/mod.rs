@@ -4,6 +4,7 @@
 
 mod frames;
 mod holds;
+mod pressing;
 mod run;
 mod sample;
 mod self_pass;
@@ -22,7 +23,7 @@ use crate::cloth::Cloth;
 use crate::collision::{ContactStats, FaceScratch, Obstacles, SelfContactTotals};
 use crate::math::{Real, Vec2, Vec3};
 use crate::mesh::{Barycentric, RestLocator};
-use crate::physics::{make_integrator, Integrator, StabilityLimit, StepStats};
+use crate::physics::{make_integrator, Energies, Integrator, Pressed, StabilityLimit, StepStats};
 use crate::scene::{CollisionMode, LoadedScene, OnUnconverged, Scene};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -32,6 +33,7 @@ use std::sync::Arc;
 pub const FORCE_HINT: &str = "--force runs it anyway";
 use crate::strategies::make_strategy;
 use holds::Holding;
+use pressing::Pressing;
 use self_pass::SelfPass;
 use std::time::{Duration, Instant};
 
@@ -60,7 +62,8 @@ pub struct StepReport {
     /// Collision statistics of the step.
     pub contacts: ContactStats,
     /// Vertices resting on an obstacle that the integrator held in its solve ([`Holding`]; 0
-    /// for an integrator that holds none).
+    /// for an integrator that holds none), plus the faces a penalty pressed at the step's end
+    /// ([`Pressing`]).
     pub held_contacts: usize,
     /// What adaptation changed.
     pub adapt: AdaptReport,
@@ -179,6 +182,8 @@ pub struct Simulation {
     pub self_contact_totals: SelfContactTotals,
     /// The contacts handed to the integrator to hold in its solve, with their obstacles.
     holding: Holding,
+    /// The faces pressed by an obstacle in the step, with a penalty (`collision.penalty` > 0).
+    pressing: Pressing,
 }
 
 impl Simulation {
@@ -240,6 +245,7 @@ impl Simulation {
                 .then(|| SelfPass::new(loaded.scene.collision.thickness)),
             self_contact_totals: SelfContactTotals::default(),
             holding: Holding::default(),
+            pressing: Pressing::default(),
         })
     }
 
@@ -270,10 +276,17 @@ impl Simulation {
             .min(self.scene.time.duration - self.t)
             .max(Real::MIN_POSITIVE);
 
-        if self.integrator.holds().is_some() {
+        let penalty = self.scene.collision.penalty;
+        if self.integrator.holds().is_some() || penalty > 0.0 {
             let clock = Instant::now();
             let face_contact = self.list_faces();
-            let faces = face_contact.then_some(&self.faces.1[..]);
+            let pressing = face_contact && penalty > 0.0;
+            if pressing {
+                self.pressing
+                    .prepare(&self.obstacles, &self.cloth, &self.faces.1, penalty);
+            }
+            // Pressed faces replace the face holds.
+            let faces = (face_contact && !pressing).then_some(&self.faces.1[..]);
             let integrator = &mut *self.integrator;
             self.holding
                 .prepare(integrator, &self.obstacles, &self.cloth, faces);
@@ -283,9 +296,13 @@ impl Simulation {
         self.x_start.clear();
         self.x_start.extend_from_slice(&self.cloth.x);
         let cloth = &mut self.cloth;
+        let dynamics = Pressed {
+            model: &cloth.model,
+            faces: &self.pressing.faces,
+        };
         let integrator = self
             .integrator
-            .step(&cloth.model, self.t, dt, &mut cloth.x, &mut cloth.v);
+            .step(&dynamics, self.t, dt, &mut cloth.x, &mut cloth.v);
         // Driven pinned vertices move with their prescribed velocity (their inverse mass is 0, so
         // the integrator left them in place); their velocity stays 0 for the force model.
         for &(i, vel) in &self.drivers {
@@ -297,13 +314,16 @@ impl Simulation {
         self.before_obstacles();
         // Moving obstacles go to where they are at the end of the step.
         self.obstacles.set_step(self.t, self.t + dt);
-        let held_contacts = self.holding.finish(
-            &mut *self.integrator,
-            &self.obstacles,
-            &mut self.cloth,
-            self.scene.material.mu,
-            dt,
-        );
+        let held_contacts =
+            self.holding.finish(
+                &mut *self.integrator,
+                &self.obstacles,
+                &mut self.cloth,
+                self.scene.material.mu,
+                dt,
+            ) + self
+                .pressing
+                .finish(&self.obstacles, &mut self.cloth, self.scene.material.mu, dt);
         let cloth = &mut self.cloth;
         let contacts = if self.obstacles.is_empty() {
             ContactStats::default()
@@ -376,6 +396,7 @@ impl Simulation {
         }
         if adapt.events > 0 {
             self.integrator.forget_history();
+            self.pressing.clear();
             let clock = Instant::now();
             self.cloth.refresh();
             self.relocate_tracked();
@@ -403,6 +424,19 @@ impl Simulation {
             adapt_total_energy_change,
             integrator,
         })
+    }
+
+    /// The cloth's energies (J) at its current state, the penalties' potential included
+    /// (`collision.penalty` > 0: over the faces the obstacles press now).
+    pub fn energies(&self) -> Energies {
+        let cloth = &self.cloth;
+        let mut energies = cloth.model.energies(&cloth.x, &cloth.v);
+        let penalty = self.scene.collision.penalty;
+        if penalty > 0.0 && self.scene.collision.mode == CollisionMode::Face {
+            let faces: Vec<[usize; 3]> = cloth.mesh.face_vertex_slots().collect();
+            energies.contact = pressing::pressed_energy(&self.obstacles, cloth, &faces, penalty);
+        }
+        energies
     }
 
     /// The face contact pass ([`crate::collision::Obstacles::respond_faces`]) when

@@ -460,7 +460,7 @@ fn remove_file_if_any(path: &Path) -> std::io::Result<()> {
 /// is taken only when `count_crossings`.
 fn metrics_row(sim: &Simulation, last: &super::StepReport, count_crossings: bool) -> MetricsRow {
     let cloth = &sim.cloth;
-    let energy = cloth.model.energies(&cloth.x, &cloth.v);
+    let energy = sim.energies();
     MetricsRow {
         step: sim.steps,
         t: sim.t,

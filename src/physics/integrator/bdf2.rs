@@ -112,10 +112,15 @@ impl Integrator for Bdf2 {
                 self.w[i] = v[i] + (x_hat(&self.x_prev, x, i) - x[i]) / h;
                 self.extra[i] = (v_hat - v[i]) * mass[i];
             }
-            model.forces(x, v, self.solver.forces_buffer(n));
-            let stats = self
-                .solver
-                .solve_linearised(model, h, x, &self.w, Some(&self.extra));
+            let pressed = dynamics.pressed_faces();
+            let f = self.solver.forces_buffer(n);
+            model.forces(x, v, f);
+            for face in pressed {
+                face.add_forces(x, f);
+            }
+            let stats =
+                self.solver
+                    .solve_linearised(model, pressed, h, x, &self.w, Some(&self.extra));
             let (inv, dv) = (model.inv_mass(), self.solver.dv());
             for i in 0..n {
                 let (start, next) = (x[i], x_hat(&self.x_prev, x, i));

@@ -93,7 +93,7 @@ pub fn material_point(cloth: &Cloth, rest: Vec2) -> Vec3 {
 pub fn run(mut sim: Simulation, t_settle: Real, penetration: bool) -> (Outcome, Simulation) {
     let clock = Instant::now();
     let g = Vec3::from(sim.scene.forces.g).norm();
-    let energy = |s: &Simulation| s.cloth.model.energies(&s.cloth.x, &s.cloth.v).total();
+    let energy = |s: &Simulation| s.energies().total();
     let mut o = Outcome {
         e0: energy(&sim),
         energy_scale: sim.cloth.model.total_mass() * g.max(1.0),

@@ -119,12 +119,8 @@ impl Pattern {
         let (slot_ptr, slot_row) = coupled(&|p| p as usize);
         let (slot_at, position) = minimum_degree_order(&slot_ptr, &slot_row)?;
         let (block_ptr, block_row) = coupled(&|p| position[p as usize]);
-        let find = |p: u32, q: u32| {
-            let (p, q) = (position[p as usize], position[q as usize]);
-            let (c, r) = (p.min(q), p.max(q));
-            let rows = &block_row[block_ptr[c]..block_ptr[c + 1]];
-            rows.binary_search(&r).ok().map(|k| block_ptr[c] + k)
-        };
+        let find =
+            |p: u32, q: u32| block_index(&position, &block_ptr, &block_row, p as usize, q as usize);
         let spring_block = (0..sp.len())
             .map(|j| find(sp.a[j], sp.b[j]).expect("every spring is in the pattern"))
             .collect();
@@ -173,6 +169,12 @@ impl Pattern {
         self.position[slot]
     }
 
+    /// The index of the off-diagonal block coupling slots `a` and `b`, `None` when the pattern
+    /// has none.
+    fn block_of(&self, a: usize, b: usize) -> Option<usize> {
+        block_index(&self.position, &self.block_ptr, &self.block_row, a, b)
+    }
+
     /// Number of scalar rows (and columns): three per slot.
     pub(super) fn dim(&self) -> usize {
         3 * self.topology.slots
@@ -216,6 +218,21 @@ impl Pattern {
                 };
                 let (r, c) = if later(k, l) { (k, l) } else { (l, k) };
                 blocks[p] += u[r] * u[c].transpose() * w;
+            }
+        }
+        for (face, weight) in &system.pressed {
+            let nn = face.normal * face.normal.transpose();
+            for (k, l) in [(0, 1), (0, 2), (1, 2)] {
+                let term = nn * (weight * face.weights[k] * face.weights[l]);
+                match self.block_of(face.slots[k], face.slots[l]) {
+                    Some(p) => blocks[p] += term,
+                    // Outside the pattern (never for a face: its edges are springs), the
+                    // coupling goes to the diagonal as a bending pair's does.
+                    None => {
+                        diagonal[face.slots[k]] += term;
+                        diagonal[face.slots[l]] += term;
+                    }
+                }
             }
         }
         let fixed = |i: usize| model.inv_mass()[i] == 0.0;
@@ -268,6 +285,21 @@ impl Pattern {
             }
         }
     }
+}
+
+/// The index of the off-diagonal block coupling slots `a` and `b` in a pattern's blocks
+/// (`position`, `block_ptr`, `block_row` as in [`Pattern`]), `None` when it has none.
+fn block_index(
+    position: &[usize],
+    block_ptr: &[usize],
+    block_row: &[usize],
+    a: usize,
+    b: usize,
+) -> Option<usize> {
+    let (p, q) = (position[a], position[b]);
+    let (c, r) = (p.min(q), p.max(q));
+    let rows = &block_row[block_ptr[c]..block_ptr[c + 1]];
+    rows.binary_search(&r).ok().map(|k| block_ptr[c] + k)
 }
 
 /// A floating-point type the factorisation can work in: `f64`, or `f32` for a preconditioner

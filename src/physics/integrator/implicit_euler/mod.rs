@@ -170,7 +170,11 @@ impl Integrator for ImplicitEuler {
             return StepStats::default();
         };
         model.forces(x, v, &mut self.f);
-        let stats = self.solve_linearised(model, dt, x, v, None);
+        let pressed = dynamics.pressed_faces();
+        for face in pressed {
+            face.add_forces(x, &mut self.f);
+        }
+        let stats = self.solve_linearised(model, pressed, dt, x, v, None);
         let w = model.inv_mass();
         for i in 0..n {
             if w[i] != 0.0 {
@@ -195,13 +199,15 @@ fn awake_if<R>(shared: bool, solve: impl FnOnce() -> R) -> R {
 impl ImplicitEuler {
     /// Solves `(M - h df/dv - h² df/dx) dv = h (f + h df/dx w) + extra` for `dv` (m/s, left in
     /// [`ImplicitEuler::dv`]), the Jacobians taken at positions `x` (m), with `f` (N) the forces
-    /// already in `self.f` and `extra` (N s, per slot; ignored at fixed slots) added to the
-    /// right-hand side, and the contacts of [`Integrator::holds`] held (`dv . n = 0` there; each
-    /// one's impulse set). Backward Euler is `h = dt`, `w = v`, no `extra`; [`super::Bdf2`] uses
+    /// already in `self.f` (the penalties of `pressed` included) and `extra` (N s, per slot;
+    /// ignored at fixed slots) added to the right-hand side, the stiffness of the faces
+    /// `pressed` in the matrix (`System::press`), and the contacts of [`Integrator::holds`] held
+    /// (`dv . n = 0` there; each one's impulse set). Backward Euler is `h = dt`, `w = v`, no `extra`; [`super::Bdf2`] uses
     /// it with its own `h`, `w` and `extra`.
     pub(super) fn solve_linearised(
         &mut self,
         model: &crate::physics::ForceModel,
+        pressed: &[crate::physics::PressedFace],
         h: Real,
         x: &[Vec3],
         w: &[Vec3],
@@ -216,6 +222,7 @@ impl ImplicitEuler {
                 }
             }
         }
+        self.system.press(pressed, h, x, w, model.inv_mass());
         self.system.hold(&mut self.holds, &self.f, model.inv_mass());
         let stats = self.solve(model);
         // A direct solve leaves round-off along a held normal; CG's iterates have none.

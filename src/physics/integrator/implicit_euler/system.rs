@@ -17,7 +17,7 @@
 use crate::math::{Mat3, Real, Vec3};
 use crate::physics::chunks::{Chunk, Indexed, Part, Phase, Window};
 use crate::physics::forces::bend_modes;
-use crate::physics::{ForceModel, Hold, SpringMode};
+use crate::physics::{ForceModel, Hold, PressedFace, SpringMode};
 
 /// The assembled pieces of `S A S` and `S b` for one step; buffers are reused across steps.
 #[derive(Clone, Debug, Default)]
@@ -41,6 +41,9 @@ pub(super) struct System {
     held: Vec<Held>,
     /// Per slot: the normal of its held contact, `None` where none is held.
     pub(super) held_at: Vec<Option<Vec3>>,
+    /// The faces pressed in this step's system ([`System::press`]), each with the weight
+    /// `dt² k` (kg) of its term `dt² k c cᵀ`, `c` the 3n-vector holding `w_k n` at its slot `k`.
+    pub(super) pressed: Vec<(PressedFace, Real)>,
 }
 
 /// One contact held in the system.
@@ -75,6 +78,7 @@ impl System {
         }
         self.held.clear();
         self.held_at.resize(n, None);
+        self.pressed.clear();
         let sw = model.switches();
         let terms = Terms::of(model, dt);
         let bending = sw.bending || sw.bending_damping;
@@ -139,10 +143,46 @@ impl System {
         for i in 0..p.len() {
             q[i] = p[i] * self.diag[i];
         }
+        for (face, weight) in &self.pressed {
+            let s = weight * face.height_of(p);
+            for k in 0..3 {
+                q[face.slots[k]] += face.normal * (s * face.weights[k]);
+            }
+        }
         for phase in Phase::BOTH {
             model.sweep_phase(phase, Window::whole(q), &|chunk: &Chunk, window| {
                 self.apply_elements(model, chunk, p, window)
             });
+        }
+    }
+
+    /// Adds the stiffness of each face of `faces` the penalty presses at positions `x` (m) to
+    /// the system of a step `dt` (s) linearised at velocities `w` (m/s): `dt² k c cᵀ` to the
+    /// matrix (its diagonal blocks here, the rest in the product and the direct solver's
+    /// assembly) and `-dt² k c (cᵀ w)` to the right-hand side, at free slots; the penalty's
+    /// force must already be in the `f` given to [`System::build`]. Call after it, before
+    /// [`System::hold`].
+    pub(super) fn press(
+        &mut self,
+        faces: &[PressedFace],
+        dt: Real,
+        x: &[Vec3],
+        w: &[Vec3],
+        inv_mass: &[Real],
+    ) {
+        for face in faces.iter().filter(|face| face.depth(x) > 0.0) {
+            let weight = dt * dt * face.stiffness;
+            let normal_speed = face.height_of(w);
+            let nn = face.normal * face.normal.transpose();
+            for k in 0..3 {
+                let (i, wk) = (face.slots[k], face.weights[k]);
+                if inv_mass[i] == 0.0 {
+                    continue;
+                }
+                self.b[i] -= face.normal * (weight * wk * normal_speed);
+                self.diag_blocks[i] += nn * (weight * wk * wk);
+            }
+            self.pressed.push((*face, weight));
         }
     }
 
