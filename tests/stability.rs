@@ -6,12 +6,25 @@ use adaptcloth::study::stability::{self, CaseSizes, Search};
 /// Hard cases still failing, each with its cause (measured; docs/stability.md):
 /// `(case, strategy, integrator, why)`. Every other case must pass for every built strategy, and a listed case
 /// that starts passing fails this test until it is removed from the list.
-const KNOWN_FAILURES: [(&str, &str, &str, &str); 1] = [(
-    "cloth draped over a plate",
-    "simnett",
-    "implicit_euler",
-    "the steps, not the edits, raise the energy (its passes add none): the refined cloth over the plate's sharp edge, which the contact held in the implicit solve does not settle (docs/model-notes.md, \"Contact in the implicit solve\", still open)",
-)];
+const KNOWN_FAILURES: [(&str, &str, &str, &str); 2] = [
+    (
+        "cloth draped over a plate",
+        "remesh",
+        "rk4",
+        REMESH_OVER_THE_PLATE,
+    ),
+    (
+        "cloth draped over a plate",
+        "remesh",
+        "implicit_euler",
+        REMESH_OVER_THE_PLATE,
+    ),
+];
+
+/// Why `remesh` fails the draped plate since the face penalty (2026-11-30; measured at the
+/// quick size, 9x9 for 0.2 s: rises of 7.8e-3 J under implicit Euler and 8.0e-3 J under RK4,
+/// against a tolerance of 5.9e-3 J; the cause measured under implicit Euler).
+const REMESH_OVER_THE_PLATE: &str = "under implicit Euler one adaptation event over the plate's edge adds 2.0e-2 J to the total energy (its edits plus the face pass after them: the stretch energy jumps); skipping that face pass, the steps add more (5.7e-2 J); with the face holds instead of the penalty the case passed (docs/model-notes.md, \"Face contact as a penalty\")";
 
 /// The hard cases pass for every built strategy, but for the [`KNOWN_FAILURES`].
 #[test]

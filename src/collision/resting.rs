@@ -2,7 +2,7 @@
 //! ([`crate::physics::Hold`]): which vertices rest on an obstacle at a step's start, and the
 //! friction a held vertex gets after the step.
 
-use super::faces::{barycentric, bounds};
+use super::faces::{barycentric, bounds, TriangleContact};
 use super::shape::{Geometry, Solid};
 use super::{apply_friction, to_glam, to_na, Obstacles, MARGIN_SLACK, TOUCH_MARGINS};
 use crate::math::{Real, Vec3};
@@ -64,31 +64,15 @@ impl Obstacles {
                 found(i, surface.obstacle, surface.normal);
             }
         }
-        for f in faces.unwrap_or_default() {
-            if f.iter().all(|&i| inv_mass[i] <= 0.0) {
-                continue;
-            }
-            let tri = f.map(|i| to_glam(x[i]));
-            let (lo, hi) = bounds(tri);
-            for (k, ob) in self.obstacles.iter().enumerate() {
-                if matches!(ob.geometry(), Geometry::Ground(_)) || !ob.overlaps(lo, hi, band) {
-                    continue;
-                }
-                let Some(c) = ob.triangle_contact(tri, band) else {
-                    continue;
-                };
-                let w = barycentric(c.point, tri);
-                let poked = c.distance + FACE_HOLD_EXCESS * self.margin;
-                if interpolated_distance(ob, tri, w, poked) < poked {
-                    continue; // the vertices' own contacts hold this face
-                }
-                for j in 0..3 {
-                    if w[j] > 0.0 && resting(ob, f[j], c.point, c.normal) {
-                        found(f[j], k, to_na(c.normal));
-                    }
+        let faces = faces.unwrap_or_default();
+        self.poked_faces(x, inv_mass, faces, FACE_HOLD_EXCESS, |f, w, c, k| {
+            let ob = &self.obstacles[k];
+            for j in 0..3 {
+                if w[j] > 0.0 && resting(ob, f[j], c.point, c.normal) {
+                    found(f[j], k, to_na(c.normal));
                 }
             }
-        }
+        });
     }
 
     /// Calls `found(face, weights, normal, distance, obstacle)` for every face of `faces`
@@ -105,6 +89,25 @@ impl Obstacles {
         faces: &[[usize; 3]],
         mut found: impl FnMut([usize; 3], [Real; 3], Vec3, Real, usize),
     ) {
+        self.poked_faces(x, inv_mass, faces, PRESS_EXCESS, |f, w, c, k| {
+            found(f, w, to_na(c.normal), c.distance, k)
+        });
+    }
+
+    /// Calls `found(face, weights, contact, obstacle)` for every face of `faces` (vertex slots
+    /// into `x`, m) with a free vertex that an obstacle but the ground comes within
+    /// [`TOUCH_MARGINS`] collision margins of, closer than the face's vertices' own distances
+    /// interpolated at the contact point by more than `excess` margins (an edge or a corner
+    /// poking the face): the contact point's barycentric weights, the contact and the
+    /// obstacle's index.
+    fn poked_faces(
+        &self,
+        x: &[Vec3],
+        inv_mass: &[Real],
+        faces: &[[usize; 3]],
+        excess: Real,
+        mut found: impl FnMut([usize; 3], [Real; 3], &TriangleContact, usize),
+    ) {
         let band = TOUCH_MARGINS * self.margin + MARGIN_SLACK;
         for &f in faces {
             if f.iter().all(|&i| inv_mass[i] <= 0.0) {
@@ -112,7 +115,7 @@ impl Obstacles {
             }
             let tri = f.map(|i| to_glam(x[i]));
             let (lo, hi) = bounds(tri);
-            for (index, ob) in self.obstacles.iter().enumerate() {
+            for (k, ob) in self.obstacles.iter().enumerate() {
                 if matches!(ob.geometry(), Geometry::Ground(_)) || !ob.overlaps(lo, hi, band) {
                     continue;
                 }
@@ -120,9 +123,9 @@ impl Obstacles {
                     continue;
                 };
                 let w = barycentric(c.point, tri);
-                let poked = c.distance + PRESS_EXCESS * self.margin;
+                let poked = c.distance + excess * self.margin;
                 if interpolated_distance(ob, tri, w, poked) >= poked {
-                    found(f, w, to_na(c.normal), c.distance, index);
+                    found(f, w, &c, k);
                 }
             }
         }

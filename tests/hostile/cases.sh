@@ -4,6 +4,7 @@
 # --- Non-finite and extreme floats in every float key (nan, 1e308; -inf in some) ------------------------
 for k in material.rho material.T material.kappa material.E material.alpha material.k_b \
     material.k_bd material.mu integrator.cg_tolerance collision.margin collision.restitution \
+    collision.penalty \
     obstacles.0.radius obstacles.0.friction obstacles.0.restitution time.beta time.dt_initial \
     time.dt_min time.dt_max time.frame_rate time.metrics_rate time.max_speed; do
     for v in nan 1e308; do c "float $k=$v" -- run "${D[@]}" --set "$k=$v"; done
