@@ -28,9 +28,7 @@ impl Simulation {
         let limit = self
             .integrator
             .stability_limit()
-            .map_or(Real::INFINITY, |axis| {
-                stability.step_limit(axis).min(self.penalty_limit(axis))
-            });
+            .map_or(Real::INFINITY, |axis| stability.step_limit(axis));
         if time.dt_initial > 0.0 && !contact_seen {
             return time.dt_initial.min(limit);
         }
@@ -42,23 +40,6 @@ impl Simulation {
             dt = dt.max(time.dt_min);
         }
         dt
-    }
-
-    /// The explicit step limit (s) of the face penalty (`collision.penalty`, N/m) on the
-    /// lightest vertex, for a scheme of stability limit `axis` on `dt w`: `axis sqrt(m_min / k)`
-    /// (a vertex alone under a face's whole penalty); infinite without the penalty (or without
-    /// face contact or obstacles). It binds
-    /// only for penalties far stiffer than the default: 1e3 N/m gives RK4 7.1e-4 s on the round
-    /// table's 65x65 grid, 89 times its reference's dynamic step (8.0e-6 s).
-    fn penalty_limit(&self, axis: Real) -> Real {
-        let k = self.scene.collision.penalty;
-        let pressing = self.scene.collision.mode == crate::scene::CollisionMode::Face
-            && !self.obstacles.is_empty();
-        if k > 0.0 && pressing {
-            axis * (self.cloth.model.min_mass() / k).sqrt()
-        } else {
-            Real::INFINITY
-        }
     }
 
     /// The run's step count estimated on the cloth as built: `(duration / dt, dt, cap)` with `dt`
