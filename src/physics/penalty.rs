@@ -67,11 +67,6 @@ impl PressedFace {
     }
 }
 
-/// The total penalty energy (J) of `faces` at positions `x` (m).
-pub fn penalty_energy(faces: &[PressedFace], x: &[Vec3]) -> Real {
-    faces.iter().map(|p| p.energy(x)).sum()
-}
-
 /// A model's dynamics with the penalties of the faces pressed in this step added
 /// (see the module's documentation).
 pub struct Pressed<'a> {

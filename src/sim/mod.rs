@@ -433,8 +433,15 @@ impl Simulation {
         let mut energies = cloth.model.energies(&cloth.x, &cloth.v);
         let penalty = self.scene.collision.penalty;
         if penalty > 0.0 && self.scene.collision.mode == CollisionMode::Face {
-            let faces: Vec<[usize; 3]> = cloth.mesh.face_vertex_slots().collect();
-            energies.contact = pressing::pressed_energy(&self.obstacles, cloth, &faces, penalty);
+            // The step's face list when it is current (no allocation in a per-step audit).
+            let fresh: Vec<[usize; 3]>;
+            let faces = if self.faces.0 == cloth.mesh.version() {
+                &self.faces.1[..]
+            } else {
+                fresh = cloth.mesh.face_vertex_slots().collect();
+                &fresh[..]
+            };
+            energies.contact = pressing::pressed_energy(&self.obstacles, cloth, faces, penalty);
         }
         energies
     }

@@ -5,7 +5,6 @@
 use crate::cloth::Cloth;
 use crate::collision::Obstacles;
 use crate::math::Real;
-use crate::physics::penalty::penalty_energy;
 use crate::physics::PressedFace;
 
 /// The faces pressed in the current step, with their obstacles (buffers reused across steps).
@@ -85,11 +84,11 @@ pub(super) fn pressed_energy(
     faces: &[[usize; 3]],
     stiffness: Real,
 ) -> Real {
-    let mut pressed = Vec::new();
+    let mut energy = 0.0;
     find(obstacles, cloth, faces, stiffness, |face, _| {
-        pressed.push(face)
+        energy += face.energy(&cloth.x)
     });
-    penalty_energy(&pressed, &cloth.x)
+    energy
 }
 
 /// Calls `found(face, obstacle)` for each face of `faces` that `obstacles` press at the cloth's
