@@ -282,8 +282,9 @@ impl Simulation {
             let face_contact = self.list_faces();
             let pressing = face_contact && penalty > 0.0;
             if pressing {
+                let (cloth, t) = (&self.cloth, self.t);
                 self.pressing
-                    .prepare(&self.obstacles, &self.cloth, &self.faces.1, penalty);
+                    .prepare(&self.obstacles, cloth, &self.faces.1, penalty, t);
             }
             // Pressed faces replace the face holds.
             let faces = (face_contact && !pressing).then_some(&self.faces.1[..]);
@@ -416,6 +417,15 @@ impl Simulation {
         } else {
             0.0
         };
+        // The faces pressed at the state the step ends at: the next step's start and the
+        // energy audit of this state read them.
+        let clock = Instant::now();
+        if penalty > 0.0 && self.list_faces() {
+            let (cloth, t) = (&self.cloth, self.t);
+            self.pressing
+                .prepare(&self.obstacles, cloth, &self.faces.1, penalty, t);
+        }
+        self.stage_times.collide_s += secs(clock.elapsed());
         Ok(StepReport {
             dt,
             contacts,
@@ -441,7 +451,9 @@ impl Simulation {
                 fresh = cloth.mesh.face_vertex_slots().collect();
                 &fresh[..]
             };
-            energies.contact = pressing::pressed_energy(&self.obstacles, cloth, faces, penalty);
+            energies.contact = self
+                .pressing
+                .energy(&self.obstacles, cloth, faces, penalty, self.t);
         }
         energies
     }
