@@ -109,8 +109,19 @@ pub fn write_docs(
 
 /// "Where the error is": under the comparison's first integrator, the error map of the static
 /// 33x33 run (else the finest static run) and of each adaptive strategy's most accurate run (any
-/// series), copied from the run folders to `dest` (markdown; empty when no run has a map).
+/// series), copied from the run folders to `dest` (markdown; empty when no run has a map). The
+/// maps an earlier page left in `dest` (`error_map-*.png`) are removed first.
 fn error_maps(out: &Path, c: &Comparison, dest: &Path) -> Result<String, ReportError> {
+    for entry in std::fs::read_dir(dest).map_err(io_err(dest))? {
+        let path = entry.map_err(io_err(dest))?.path();
+        let name = path
+            .file_name()
+            .and_then(|n| n.to_str())
+            .unwrap_or_default();
+        if name.starts_with("error_map-") && name.ends_with(".png") {
+            std::fs::remove_file(&path).map_err(io_err(&path))?;
+        }
+    }
     let Some(integrator) = integrators(c).first().copied() else {
         return Ok(String::new());
     };
@@ -163,7 +174,7 @@ mod tests {
     use crate::report::reading::tests::{comparison, run};
 
     #[test]
-    fn error_maps_show_static_33_and_each_strategys_most_accurate_run() {
+    fn error_maps_show_static_33_and_each_strategys_most_accurate_run_and_no_earlier_ones() {
         let dir = tempfile::tempdir().unwrap();
         let rows = [
             run("static", "static", 17, 10.0, 2e-2),
@@ -181,7 +192,12 @@ mod tests {
         let c = comparison(&rows);
         let dest = dir.path().join("docs");
         std::fs::create_dir_all(&dest).unwrap();
+        let stale = dest.join("error_map-remesh-5-rk4-h_min=0.06.png");
+        std::fs::write(&stale, b"an earlier page's").unwrap();
+        std::fs::write(dest.join("speed_error.svg"), b"kept").unwrap();
         let md = error_maps(dir.path(), &c, &dest).unwrap();
+        assert!(!stale.exists(), "an earlier page's map is left");
+        assert!(dest.join("speed_error.svg").exists());
         let shown: Vec<&str> = md.lines().filter_map(|l| l.strip_prefix("![")).collect();
         assert_eq!(shown.len(), 3, "{md}");
         for label in ["static-33-rk4", "bisect48_sizing-9-rk4", "remesh-5-rk4"] {
