@@ -242,7 +242,7 @@ pub struct DocsArgs {
 pub struct StudyArgs {
     /// The study file (TOML; format in docs/studies.md). Without it, the embedded quick study
     /// (studies/quick.toml): the four strategies head to head on the sphere, with --jobs 2 on 2
-    /// cores in about 25 s the first time (it computes its reference) and about 3 s after.
+    /// cores in about 40 s the first time (it computes its reference) and about 4 s after.
     pub file: Option<PathBuf>,
     /// How the runs are executed.
     #[command(flatten)]
