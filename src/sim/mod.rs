@@ -280,12 +280,7 @@ impl Simulation {
         if self.integrator.holds().is_some() || penalty > 0.0 {
             let clock = Instant::now();
             let face_contact = self.list_faces();
-            let pressing = face_contact && penalty > 0.0;
-            if pressing {
-                let (cloth, t) = (&self.cloth, self.t);
-                self.pressing
-                    .prepare(&self.obstacles, cloth, &self.faces.1, penalty, t);
-            }
+            let pressing = self.press_faces();
             // Pressed faces replace the face holds.
             let faces = (face_contact && !pressing).then_some(&self.faces.1[..]);
             let integrator = &mut *self.integrator;
@@ -420,11 +415,7 @@ impl Simulation {
         // The faces pressed at the state the step ends at: the next step's start and the
         // energy audit of this state read them.
         let clock = Instant::now();
-        if penalty > 0.0 && self.list_faces() {
-            let (cloth, t) = (&self.cloth, self.t);
-            self.pressing
-                .prepare(&self.obstacles, cloth, &self.faces.1, penalty, t);
-        }
+        self.press_faces();
         self.stage_times.collide_s += secs(clock.elapsed());
         Ok(StepReport {
             dt,
@@ -493,6 +484,19 @@ impl Simulation {
             self.faces.1.extend(mesh.face_vertex_slots());
             self.faces.0 = mesh.version();
         }
+        true
+    }
+
+    /// With face contact and `collision.penalty` > 0, lists the faces the obstacles press at the
+    /// cloth's current state ([`Pressing::prepare`]: no search when the list is already this
+    /// state's); returns whether the penalty is on.
+    fn press_faces(&mut self) -> bool {
+        let penalty = self.scene.collision.penalty;
+        if penalty <= 0.0 || !self.list_faces() {
+            return false;
+        }
+        self.pressing
+            .prepare(&self.obstacles, &self.cloth, &self.faces.1, penalty, self.t);
         true
     }
 
